@@ -1,0 +1,209 @@
+// SO(3): rotations of R^3, stored as a 3x3 rotation matrix.
+//
+// Tangent space: a rotation vector phi in R^3, hat(phi) = [phi]_x (skew-symmetric).
+//   Exp(phi) = I + G_1 [phi] + G_2 [phi]^2                      (Rodrigues)
+//   Jr(phi)  = I - G_2 [phi] + G_3 [phi]^2,  Jl(phi) = Jr(-phi)  (right/left Jacobians)
+//   Jl^-1    = I - [phi]/2 + D [phi]^2
+// with the G's and D from so3_series.hpp. Jacobian convention (manif, Sola et al. 2018):
+//   Exp(phi + d) = Exp(phi) Exp(Jr(phi) d) = Exp(Jl(phi) d) Exp(phi).
+// Log goes through the unit quaternion (Shepperd's method picks the best-conditioned entry),
+// so it stays accurate near theta = 0 and near theta = pi.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include "lie/errors.hpp"
+#include "lie/so3_series.hpp"
+
+namespace lie {
+
+template <typename Scalar, int K, int MaxK>
+class SEK3;
+
+template <typename Scalar>
+using Vector3 = Eigen::Matrix<Scalar, 3, 1>;
+template <typename Scalar>
+using Matrix3 = Eigen::Matrix<Scalar, 3, 3>;
+
+// [v]_x, so that hat(v) * w = v x w.
+template <typename Derived>
+Matrix3<typename Derived::Scalar> hat3(const Eigen::MatrixBase<Derived>& v) {
+  using S = typename Derived::Scalar;
+  Matrix3<S> m;
+  m << S(0), -v(2), v(1), v(2), S(0), -v(0), -v(1), v(0), S(0);
+  return m;
+}
+
+// The SO(3) Gamma functions of the InEKF literature, Gamma_m(phi) = sum_n [phi]^n / (n+m)!:
+// Gamma_0 = Exp, Gamma_1 = Jl (the integral of Exp), Gamma_2 (the integral of Gamma_1).
+template <int m, typename Scalar>
+Matrix3<Scalar> Gamma(const Vector3<Scalar>& phi) {
+  static_assert(m >= 0 && m <= 2, "Gamma_m is provided for m = 0, 1, 2");
+  const AngleSeries<Scalar> c(phi.squaredNorm());
+  const Matrix3<Scalar> P = hat3(phi);
+  const Scalar diag = Scalar(1) / Scalar(detail::factorial(m));
+  return diag * Matrix3<Scalar>::Identity() + c.template G<m + 1>() * P +
+         c.template G<m + 2>() * P * P;
+}
+
+template <typename Scalar_>
+class SO3 {
+ public:
+  using Scalar = Scalar_;
+  static constexpr int DoF = 3;
+  using Tangent = Vector3<Scalar>;
+  using Point = Vector3<Scalar>;
+  using Jacobian = Matrix3<Scalar>;
+  using AdjointMatrix = Matrix3<Scalar>;
+  using Matrix = Matrix3<Scalar>;
+
+  SO3() : R_(Matrix::Identity()) {}
+  static SO3 Identity() { return SO3(); }
+
+  // Checked construction: throws lie::NotInGroup unless R is finite, orthonormal to tol and
+  // has determinant +1.
+  static SO3 fromMatrix(const Matrix& R, Scalar tol = Scalar(1e-9)) {
+    if (!R.allFinite()) throw NotInGroup("SO3::fromMatrix: matrix has a NaN or inf entry");
+    const Scalar orth = (R.transpose() * R - Matrix::Identity()).cwiseAbs().maxCoeff();
+    if (!(orth <= tol)) {
+      std::ostringstream os;
+      os << "SO3::fromMatrix: matrix is not orthonormal (max |R^T R - I| = " << orth
+         << " > tol " << tol << ")";
+      throw NotInGroup(os.str());
+    }
+    if (R.determinant() < Scalar(0)) {
+      throw NotInGroup("SO3::fromMatrix: determinant is -1 (a reflection, not a rotation)");
+    }
+    return SO3(R, Unchecked{});
+  }
+  static SO3 fromQuaternion(const Eigen::Quaternion<Scalar>& q) {
+    return SO3(q.normalized().toRotationMatrix(), Unchecked{});
+  }
+
+  const Matrix& matrix() const { return R_; }
+  Eigen::Quaternion<Scalar> quaternion() const { return Eigen::Quaternion<Scalar>(R_); }
+
+  // Group operations ---------------------------------------------------------------------
+  SO3 operator*(const SO3& other) const { return SO3(R_ * other.R_, Unchecked{}); }
+  SO3 compose(const SO3& other, Jacobian* J_out_this = nullptr,
+              Jacobian* J_out_other = nullptr) const {
+    if (J_out_this) *J_out_this = other.R_.transpose();  // Ad of other^-1
+    if (J_out_other) J_out_other->setIdentity();
+    return *this * other;
+  }
+  SO3 inverse(Jacobian* J_out_this = nullptr) const {
+    if (J_out_this) *J_out_this = -R_;  // -Ad
+    return SO3(R_.transpose(), Unchecked{});
+  }
+  Point act(const Point& x, Jacobian* J_out_this = nullptr, Jacobian* J_out_x = nullptr) const {
+    if (J_out_this) *J_out_this = -R_ * hat3(x);
+    if (J_out_x) *J_out_x = R_;
+    return R_ * x;
+  }
+  Point operator*(const Point& x) const { return R_ * x; }
+
+  // Exp / Log ---------------------------------------------------------------------------
+  static SO3 Exp(const Tangent& phi, Jacobian* J_out_phi = nullptr) {
+    const AngleSeries<Scalar> c(phi.squaredNorm());
+    if (J_out_phi) *J_out_phi = Jr(phi, c);
+    return SO3(expMatrix(phi, c), Unchecked{});
+  }
+
+  Tangent Log(Jacobian* J_out_this = nullptr) const {
+    const Tangent phi = logOfQuaternion(quaternion());
+    if (J_out_this) *J_out_this = JrInv(phi);
+    return phi;
+  }
+
+  static Matrix hat(const Tangent& phi) { return hat3(phi); }
+  static Tangent vee(const Matrix& P) { return Tangent(P(2, 1), P(0, 2), P(1, 0)); }
+
+  AdjointMatrix Adj() const { return R_; }
+  static AdjointMatrix ad(const Tangent& phi) { return hat3(phi); }
+
+  // Jacobians -----------------------------------------------------------------------------
+  static Jacobian Jr(const Tangent& phi) { return Jr(phi, AngleSeries<Scalar>(phi.squaredNorm())); }
+  static Jacobian Jl(const Tangent& phi) { return Jr(Tangent(-phi)); }
+  static Jacobian JrInv(const Tangent& phi) { return JlInv(Tangent(-phi)); }
+  static Jacobian JlInv(const Tangent& phi) {
+    const AngleSeries<Scalar> c(phi.squaredNorm());
+    const Matrix P = hat3(phi);
+    return Matrix::Identity() - Scalar(0.5) * P + c.jlInvD() * P * P;
+  }
+
+  // Plus / minus: right (body-frame) and left (world-frame) versions.
+  SO3 rplus(const Tangent& tau) const { return *this * Exp(tau); }
+  SO3 lplus(const Tangent& tau) const { return Exp(tau) * *this; }
+  Tangent rminus(const SO3& X) const { return (X.inverse() * *this).Log(); }  // Log(X^-1 Y)
+  Tangent lminus(const SO3& X) const { return (*this * X.inverse()).Log(); }  // Log(Y X^-1)
+
+  // Geodesic interpolation: t = 0 gives *this, t = 1 gives other.
+  SO3 interpolate(const SO3& other, Scalar t) const { return rplus(t * other.rminus(*this)); }
+
+  // Uniformly distributed rotation (Haar measure): a normalised 4-D Gaussian quaternion.
+  template <typename Generator>
+  static SO3 Random(Generator& gen) {
+    std::normal_distribution<Scalar> n01(Scalar(0), Scalar(1));
+    Eigen::Quaternion<Scalar> q(n01(gen), n01(gen), n01(gen), n01(gen));
+    return fromQuaternion(q);
+  }
+
+  bool isApprox(const SO3& other, Scalar tol = Scalar(1e-10)) const {
+    return (R_ - other.R_).cwiseAbs().maxCoeff() <= tol;
+  }
+
+  // The nearest rotation matrix in the Frobenius norm (removes accumulated rounding drift).
+  SO3 normalized() const {
+    Eigen::JacobiSVD<Matrix> svd(R_, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Matrix U = svd.matrixU();
+    if ((U * svd.matrixV().transpose()).determinant() < Scalar(0)) U.col(2) *= Scalar(-1);
+    return SO3(U * svd.matrixV().transpose(), Unchecked{});
+  }
+
+  // Building blocks shared with SE_K(3), which reuses one AngleSeries per operation ------
+  static Matrix expMatrix(const Tangent& phi, const AngleSeries<Scalar>& c) {
+    const Matrix P = hat3(phi);
+    return Matrix::Identity() + c.template G<1>() * P + c.template G<2>() * P * P;
+  }
+  static Jacobian Jr(const Tangent& phi, const AngleSeries<Scalar>& c) {
+    const Matrix P = hat3(phi);
+    return Matrix::Identity() - c.template G<2>() * P + c.template G<3>() * P * P;
+  }
+
+  // Rotation vector of a unit quaternion: theta = 2 atan2(|v|, w), taken with w >= 0 so that
+  // theta lies in [0, pi]. For small |v|, theta/|v| = (2/w)(1 - |v|^2/(3w^2) + ...).
+  static Tangent logOfQuaternion(const Eigen::Quaternion<Scalar>& q) {
+    using std::atan2;
+    using std::sqrt;
+    const Scalar sign = q.w() < Scalar(0) ? Scalar(-1) : Scalar(1);
+    const Scalar w = sign * q.w();
+    const Tangent v = sign * q.vec();
+    const Scalar n2 = v.squaredNorm();
+    Scalar scale;
+    if (n2 < Scalar(1e-12)) {
+      const Scalar r2 = n2 / (w * w);
+      scale = Scalar(2) / w * (Scalar(1) - r2 / Scalar(3) + r2 * r2 / Scalar(5));
+    } else {
+      const Scalar n = sqrt(n2);
+      scale = Scalar(2) * atan2(n, w) / n;
+    }
+    return scale * v;
+  }
+
+ private:
+  template <typename, int, int>
+  friend class SEK3;
+  struct Unchecked {};
+  SO3(const Matrix& R, Unchecked) : R_(R) {}
+
+  Matrix R_;
+};
+
+using SO3d = SO3<double>;
+
+}  // namespace lie

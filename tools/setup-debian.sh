@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages legkit needs, if any are missing. Run as root.
+set -euo pipefail
+packages=(
+  cmake g++ make
+  libeigen3-dev catch2 librapidcheck-dev libceres-dev libbenchmark-dev
+  libcli11-dev nlohmann-json3-dev
+  libmujoco-dev libqhull-dev libgl-dev
+  python3-matplotlib python3-numpy
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "legkit: installing missing Debian packages: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
