@@ -1,0 +1,18 @@
+// The one thing every estimator learns from a leg: where a foot is, seen from the body.
+// It does not assume any particular robot: a quadruped, a biped or a user's own machine fills it
+// from its own kinematics (or a log's body-frame foot columns).
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+
+namespace legkit {
+
+struct ContactMeasurement {
+  int foot = 0;                    // foot id (quadruped: 0 FL, 1 FR, 2 RL, 3 RR)
+  Eigen::Vector3d p_body;          // foot position in the body (IMU) frame [m]
+  Eigen::Matrix3d cov;             // its 3x3 covariance [m^2]
+  std::optional<Eigen::Vector3d> v_body;  // optional foot velocity relative to the body [m/s]
+};
+
+}  // namespace legkit
