@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-namespace legkit::imu {
+namespace legkit::model {
 
 struct ImuNoise {
   double gyro_noise_density = 0.004;    // sigma_g  [rad/s/sqrt(Hz)]
@@ -22,4 +22,4 @@ struct ImuNoise {
   double accelBiasStepSigma(double dt) const { return accel_bias_random_walk * std::sqrt(dt); }
 };
 
-}  // namespace legkit::imu
+}  // namespace legkit::model
