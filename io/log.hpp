@@ -1,0 +1,95 @@
+// One run of a legged robot as the estimators see it: a table with one row per IMU sample.
+//
+// This is the only input an estimator ever gets. A simulated run (sim/) and a run recorded on a
+// real robot use exactly the same records; chapters/57.0-logs-and-simulator.md documents the CSV
+// columns, their units and the loader's errors. The CSV side lives in io/log_reader.hpp and
+// io/log_writer.hpp; this header only holds the records.
+//
+// Two ways to describe the legs, both allowed in one log:
+//  - quadruped joints (the built-in Go2-class model): 12 joint angles and velocities, legs FL, FR,
+//    RL, RR, joints per leg: hip abduction, hip flexion, knee. Foot ids 0..3 are FL..RR.
+//  - robot-agnostic feet: for up to kMaxFeet feet, the foot position in the body (IMU) frame and
+//  its
+//    covariance, already computed by the robot's own kinematics. An estimator turns these directly
+//    into legkit::ContactMeasurement (model/contact_measurement.hpp).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <string>
+#include <vector>
+
+namespace legkit::io {
+
+constexpr int kNumLegs = 4;       // quadruped layout: FL, FR, RL, RR
+constexpr int kJointsPerLeg = 3;  // hip abduction, hip flexion, knee
+constexpr int kNumJoints = kNumLegs * kJointsPerLeg;
+constexpr int kMaxFeet = 6;  // robot-agnostic layout: a biped up to a hexapod
+
+using JointVector = Eigen::Matrix<double, kNumJoints, 1>;  // index = 3 * leg + joint
+
+// How the body-frame foot columns give their uncertainty.
+enum class FootCovariance {
+  kNone,      // the log has no foot columns
+  kDiagonal,  // foot<k>_var_x, _var_y, _var_z                      [m^2]
+  kFull,      // foot<k>_cov_xx, _cov_xy, _cov_xz, _cov_yy, _cov_yz, _cov_zz  [m^2]
+};
+
+// Which column groups a log carries. t, gyro_* and acc_* are always there; so is at least one of
+// the two leg descriptions (joints, or feet).
+struct LogLayout {
+  bool joints = true;         // q_<leg>_<j>, dq_<leg>_<j>                 [rad], [rad/s]
+  bool torque = false;        // tau_<leg>_<j>                             [N m]
+  bool force = false;         // force_<foot>: normal ground-reaction force [N]
+  bool contact = false;       // contact_<foot>: 0 or 1
+  bool ground_truth = false;  // gt_px..pz [m], gt_qw..qz (body to world), gt_vx..vz [m/s, world]
+  int num_feet = kNumLegs;    // number of feet (4 with joints; 1..kMaxFeet with foot columns)
+  FootCovariance foot_columns = FootCovariance::kNone;  // body-frame foot position columns
+
+  bool operator==(const LogLayout& o) const {
+    return joints == o.joints && torque == o.torque && force == o.force && contact == o.contact &&
+           ground_truth == o.ground_truth && num_feet == o.num_feet &&
+           foot_columns == o.foot_columns;
+  }
+  bool operator!=(const LogLayout& o) const { return !(*this == o); }
+};
+
+// A foot seen from the body, as the robot's own kinematics computed it.
+struct FootKinematics {
+  Eigen::Vector3d p_body = Eigen::Vector3d::Zero();  // foot position in the body frame [m]
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();     // its covariance [m^2] (diagonal if kDiagonal)
+};
+
+// One IMU sample and everything measured at the same instant. Fixed size: no heap per row.
+// Fields of a group the layout does not carry are left at their default (zero, false, identity).
+struct LogRow {
+  double t = 0.0;                                  // time [s], strictly increasing
+  Eigen::Vector3d gyro = Eigen::Vector3d::Zero();  // w_m: body angular rate + bias + noise [rad/s]
+  Eigen::Vector3d acc = Eigen::Vector3d::Zero();   // a_m = R^T (a - g) + b_a + n_a       [m/s^2]
+  JointVector q = JointVector::Zero();             // joint angles      [rad]
+  JointVector dq = JointVector::Zero();            // joint velocities  [rad/s]
+  JointVector tau = JointVector::Zero();           // joint torques     [N m]
+  std::array<double, kMaxFeet> force{};            // normal ground-reaction force per foot [N]
+  std::array<bool, kMaxFeet> contact{};            // contact flag per foot
+  std::array<FootKinematics, kMaxFeet> feet{};     // body-frame foot positions (foot columns)
+  // Ground truth (simulation, motion capture): base pose and world-frame velocity.
+  Eigen::Vector3d gt_p = Eigen::Vector3d::Zero();            // position in world [m]
+  Eigen::Quaterniond gt_q = Eigen::Quaterniond::Identity();  // R: body to world
+  Eigen::Vector3d gt_v = Eigen::Vector3d::Zero();            // velocity in world [m/s]
+};
+
+// Bit-for-bit equality of every field (what a write + read round trip guarantees).
+bool exactlyEqual(const LogRow& a, const LogRow& b);
+
+// A whole run. comments are the '#' lines before the header (free text: robot, scenario, seed).
+struct Log {
+  LogLayout layout;
+  std::vector<std::string> comments;
+  std::vector<LogRow> rows;
+};
+
+// Leg names in column order; foot ids 0..3 of a quadruped log.
+constexpr std::array<const char*, kNumLegs> kLegNames = {"FL", "FR", "RL", "RR"};
+
+}  // namespace legkit::io
