@@ -79,7 +79,7 @@ struct LogRow {
   Eigen::Vector3d gt_v = Eigen::Vector3d::Zero();            // velocity in world [m/s]
 };
 
-// Bit-for-bit equality of every field (what a write + read round trip guarantees).
+// Exact equality (==, no tolerance) of every field: what a write + read round trip guarantees.
 bool exactlyEqual(const LogRow& a, const LogRow& b);
 
 // A whole run. comments are the '#' lines before the header (free text: robot, scenario, seed).

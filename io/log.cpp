@@ -1,0 +1,16 @@
+#include "io/log.hpp"
+
+namespace legkit::io {
+
+bool exactlyEqual(const LogRow& a, const LogRow& b) {
+  bool feet_equal = true;
+  for (int k = 0; k < kMaxFeet; ++k) {
+    feet_equal =
+        feet_equal && a.feet[k].p_body == b.feet[k].p_body && a.feet[k].cov == b.feet[k].cov;
+  }
+  return a.t == b.t && a.gyro == b.gyro && a.acc == b.acc && a.q == b.q && a.dq == b.dq &&
+         a.tau == b.tau && a.force == b.force && a.contact == b.contact && feet_equal &&
+         a.gt_p == b.gt_p && a.gt_q.coeffs() == b.gt_q.coeffs() && a.gt_v == b.gt_v;
+}
+
+}  // namespace legkit::io

@@ -1,0 +1,222 @@
+#include "io/log_columns.hpp"
+
+#include <stdexcept>
+#include <unordered_map>
+
+namespace legkit::io {
+namespace {
+
+constexpr std::array<const char*, 3> kAxes = {"x", "y", "z"};
+// Upper triangle of a symmetric 3x3 matrix, row by row.
+constexpr std::array<const char*, 6> kCovNames = {"xx", "xy", "xz", "yy", "yz", "zz"};
+constexpr std::array<int, 6> kCovRow = {0, 0, 0, 1, 1, 2};
+constexpr std::array<int, 6> kCovCol = {0, 1, 2, 1, 2, 2};
+
+std::string jointName(const char* prefix, int joint) {
+  return std::string(prefix) + "_" + kLegNames[joint / kJointsPerLeg] + "_" +
+         std::to_string(joint % kJointsPerLeg);
+}
+
+std::string footName(int foot) {
+  return "foot" + std::to_string(foot);
+}
+
+// force_FL (quadruped logs) or foot0_force (logs described by foot columns only).
+std::string perFootName(const char* what, int foot, bool leg_names) {
+  if (leg_names) return std::string(what) + "_" + kLegNames[foot];
+  return footName(foot) + "_" + what;
+}
+
+void appendVector(std::vector<Column>& out, const std::string& prefix, Field field) {
+  for (int i = 0; i < 3; ++i) out.push_back({prefix + kAxes[i], field, 0, i});
+}
+
+void appendJoints(std::vector<Column>& out, const char* prefix, Field field) {
+  for (int j = 0; j < kNumJoints; ++j) out.push_back({jointName(prefix, j), field, 0, j});
+}
+
+void appendFootKinematics(std::vector<Column>& out, int foot, FootCovariance covariance) {
+  const std::string f = footName(foot);
+  for (int i = 0; i < 3; ++i) out.push_back({f + "_p" + kAxes[i], Field::kFootP, foot, i});
+  if (covariance == FootCovariance::kDiagonal) {
+    for (int i = 0; i < 3; ++i) out.push_back({f + "_var_" + kAxes[i], Field::kFootVar, foot, i});
+  } else if (covariance == FootCovariance::kFull) {
+    for (int i = 0; i < 6; ++i) {
+      out.push_back({f + "_cov_" + kCovNames[i], Field::kFootCov, foot, i});
+    }
+  }
+}
+
+void appendGroundTruth(std::vector<Column>& out) {
+  appendVector(out, "gt_p", Field::kGtP);
+  constexpr std::array<const char*, 4> kQuat = {"w", "x", "y", "z"};
+  for (int i = 0; i < 4; ++i) out.push_back({std::string("gt_q") + kQuat[i], Field::kGtQ, 0, i});
+  appendVector(out, "gt_v", Field::kGtV);
+}
+
+// Every name the format knows, including both spellings of the per-foot columns.
+std::unordered_map<std::string, Column> buildNameTable() {
+  std::vector<Column> all;
+  all.push_back({"t", Field::kTime, 0, 0});
+  appendVector(all, "gyro_", Field::kGyro);
+  appendVector(all, "acc_", Field::kAcc);
+  appendJoints(all, "q", Field::kQ);
+  appendJoints(all, "dq", Field::kDq);
+  appendJoints(all, "tau", Field::kTau);
+  for (int k = 0; k < kMaxFeet; ++k) {
+    for (bool leg_names : {false, true}) {
+      if (leg_names && k >= kNumLegs) continue;
+      all.push_back({perFootName("force", k, leg_names), Field::kForce, k, 0});
+      all.push_back({perFootName("contact", k, leg_names), Field::kContact, k, 0});
+    }
+    appendFootKinematics(all, k, FootCovariance::kDiagonal);
+    appendFootKinematics(all, k, FootCovariance::kFull);
+  }
+  appendGroundTruth(all);
+  std::unordered_map<std::string, Column> table;
+  for (Column& c : all) {
+    const std::string name = c.name;
+    table.emplace(name, std::move(c));
+  }
+  return table;
+}
+
+}  // namespace
+
+std::vector<Column> columnsOf(const LogLayout& layout) {
+  const bool feet = layout.foot_columns != FootCovariance::kNone;
+  if (!layout.joints && !feet) {
+    throw std::invalid_argument("log layout: needs joint columns or foot columns");
+  }
+  if (layout.num_feet < 1 || layout.num_feet > kMaxFeet ||
+      (layout.joints && layout.num_feet != kNumLegs)) {
+    throw std::invalid_argument("log layout: num_feet = " + std::to_string(layout.num_feet) +
+                                " (4 with joint columns, 1.." + std::to_string(kMaxFeet) +
+                                " with foot columns only)");
+  }
+  if (layout.torque && !layout.joints) {
+    throw std::invalid_argument("log layout: torque columns need joint columns");
+  }
+  std::vector<Column> out;
+  out.push_back({"t", Field::kTime, 0, 0});
+  appendVector(out, "gyro_", Field::kGyro);
+  appendVector(out, "acc_", Field::kAcc);
+  if (layout.joints) {
+    appendJoints(out, "q", Field::kQ);
+    appendJoints(out, "dq", Field::kDq);
+  }
+  if (layout.torque) appendJoints(out, "tau", Field::kTau);
+  if (layout.force) {
+    for (int k = 0; k < layout.num_feet; ++k) {
+      out.push_back({perFootName("force", k, layout.joints), Field::kForce, k, 0});
+    }
+  }
+  if (layout.contact) {
+    for (int k = 0; k < layout.num_feet; ++k) {
+      out.push_back({perFootName("contact", k, layout.joints), Field::kContact, k, 0});
+    }
+  }
+  if (feet) {
+    for (int k = 0; k < layout.num_feet; ++k) appendFootKinematics(out, k, layout.foot_columns);
+  }
+  if (layout.ground_truth) appendGroundTruth(out);
+  return out;
+}
+
+std::optional<Column> columnNamed(std::string_view name) {
+  static const std::unordered_map<std::string, Column> table = buildNameTable();
+  const auto it = table.find(std::string(name));
+  if (it == table.end()) return std::nullopt;
+  return it->second;
+}
+
+double valueOf(const LogRow& row, const Column& c) {
+  switch (c.field) {
+    case Field::kTime:
+      return row.t;
+    case Field::kGyro:
+      return row.gyro(c.index);
+    case Field::kAcc:
+      return row.acc(c.index);
+    case Field::kQ:
+      return row.q(c.index);
+    case Field::kDq:
+      return row.dq(c.index);
+    case Field::kTau:
+      return row.tau(c.index);
+    case Field::kForce:
+      return row.force[c.foot];
+    case Field::kContact:
+      return row.contact[c.foot] ? 1.0 : 0.0;
+    case Field::kFootP:
+      return row.feet[c.foot].p_body(c.index);
+    case Field::kFootVar:
+      return row.feet[c.foot].cov(c.index, c.index);
+    case Field::kFootCov:
+      return row.feet[c.foot].cov(kCovRow[c.index], kCovCol[c.index]);
+    case Field::kGtP:
+      return row.gt_p(c.index);
+    case Field::kGtQ:
+      return c.index == 0 ? row.gt_q.w() : row.gt_q.vec()(c.index - 1);
+    case Field::kGtV:
+      return row.gt_v(c.index);
+  }
+  throw std::logic_error("valueOf: unknown field");
+}
+
+void setValue(LogRow& row, const Column& c, double value) {
+  switch (c.field) {
+    case Field::kTime:
+      row.t = value;
+      return;
+    case Field::kGyro:
+      row.gyro(c.index) = value;
+      return;
+    case Field::kAcc:
+      row.acc(c.index) = value;
+      return;
+    case Field::kQ:
+      row.q(c.index) = value;
+      return;
+    case Field::kDq:
+      row.dq(c.index) = value;
+      return;
+    case Field::kTau:
+      row.tau(c.index) = value;
+      return;
+    case Field::kForce:
+      row.force[c.foot] = value;
+      return;
+    case Field::kContact:
+      row.contact[c.foot] = value != 0.0;
+      return;
+    case Field::kFootP:
+      row.feet[c.foot].p_body(c.index) = value;
+      return;
+    case Field::kFootVar:
+      row.feet[c.foot].cov(c.index, c.index) = value;
+      return;
+    case Field::kFootCov: {
+      Eigen::Matrix3d& cov = row.feet[c.foot].cov;
+      cov(kCovRow[c.index], kCovCol[c.index]) = value;
+      cov(kCovCol[c.index], kCovRow[c.index]) = value;  // symmetric
+      return;
+    }
+    case Field::kGtP:
+      row.gt_p(c.index) = value;
+      return;
+    case Field::kGtQ:
+      if (c.index == 0) {
+        row.gt_q.w() = value;
+      } else {
+        row.gt_q.vec()(c.index - 1) = value;
+      }
+      return;
+    case Field::kGtV:
+      row.gt_v(c.index) = value;
+      return;
+  }
+  throw std::logic_error("setValue: unknown field");
+}
+
+}  // namespace legkit::io

@@ -1,0 +1,328 @@
+#include "io/log_reader.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <string_view>
+#include <vector>
+
+#include "io/log_columns.hpp"
+#include "io/log_error.hpp"
+
+namespace legkit::io {
+namespace {
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
+  return s;
+}
+
+// Splits one line at commas (no quoting: the format has only numbers and plain names).
+void splitFields(std::string_view line, std::vector<std::string_view>& fields) {
+  fields.clear();
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    if (comma == std::string_view::npos) {
+      fields.push_back(trim(line.substr(start)));
+      return;
+    }
+    fields.push_back(trim(line.substr(start, comma - start)));
+    start = comma + 1;
+  }
+}
+
+// Shortest text that reads back as x.
+std::string numberText(double x) {
+  char buffer[32];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), x);
+  return ec == std::errc() ? std::string(buffer, end) : std::string("?");
+}
+
+// Hands out the lines of a file with their 1-based numbers.
+class LineSource {
+ public:
+  explicit LineSource(std::string text) : text_(std::move(text)) {}
+  bool next(std::string_view& line) {
+    if (pos_ >= text_.size()) return false;
+    const std::size_t end = text_.find('\n', pos_);
+    const std::size_t stop = end == std::string::npos ? text_.size() : end;
+    line = std::string_view(text_).substr(pos_, stop - pos_);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    pos_ = end == std::string::npos ? text_.size() : end + 1;
+    ++number_;
+    return true;
+  }
+  int number() const { return number_; }
+
+ private:
+  std::string text_;
+  std::size_t pos_ = 0;
+  int number_ = 0;
+};
+
+class Reader {
+ public:
+  Reader(std::string source, const ReadOptions& options)
+      : source_(std::move(source)), options_(options) {}
+
+  Log read(std::string text) {
+    LineSource lines(std::move(text));
+    Log log;
+    std::string_view line;
+    bool have_header = false;
+    while (lines.next(line)) {
+      if (!line.empty() && line.front() == '#') {
+        std::string_view comment = line.substr(1);
+        if (!comment.empty() && comment.front() == ' ') comment.remove_prefix(1);
+        log.comments.emplace_back(comment);
+        continue;
+      }
+      have_header = true;
+      break;
+    }
+    if (!have_header) fail(lines.number(), "", "no header line (the file is empty)");
+    header_line_ = lines.number();
+    parseHeader(line, log.layout);
+
+    std::vector<std::string_view> fields;
+    while (lines.next(line)) {
+      if (line.empty()) {
+        // A final newline leaves one empty "line" only at the very end; a blank line inside the
+        // data is an error.
+        std::string_view rest;
+        const int blank = lines.number();
+        while (lines.next(rest)) {
+          if (!rest.empty()) fail(blank, "", "blank line inside the data");
+        }
+        break;
+      }
+      splitFields(line, fields);
+      log.rows.push_back(parseRow(lines.number(), fields));
+      checkTime(lines.number(), log.rows);
+    }
+    if (log.rows.empty()) fail(lines.number(), "", "no data rows after the header");
+    return log;
+  }
+
+ private:
+  [[noreturn]] void fail(int line, const std::string& column, const std::string& what) const {
+    throw LogError(source_, line, column, what);
+  }
+
+  void parseHeader(std::string_view line, LogLayout& layout) {
+    std::vector<std::string_view> names;
+    splitFields(line, names);
+    std::vector<bool> seen_name;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const std::string name(names[i]);
+      if (name.empty()) {
+        fail(header_line_, "", "header field " + std::to_string(i + 1) + " is empty");
+      }
+      const std::optional<Column> column = columnNamed(name);
+      if (!column) {
+        fail(header_line_, name,
+             "unknown column (header field " + std::to_string(i + 1) +
+                 "); the known columns are listed in io/log_columns.hpp");
+      }
+      for (const Column& c : columns_) {
+        if (c.field == column->field && c.foot == column->foot && c.index == column->index) {
+          fail(header_line_, name,
+               c.name == name ? "appears twice in the header"
+                              : "duplicates column '" + c.name + "'");
+        }
+      }
+      columns_.push_back(*column);
+    }
+    layout = deduceLayout();
+    layout_has_quaternion_ = layout.ground_truth;
+    // Every column the layout implies must be there (a group is all or nothing).
+    for (const Column& want : columnsOf(layout)) {
+      if (!has(want.field, want.foot, want.index)) fail(header_line_, want.name, missingWhy(want));
+    }
+  }
+
+  bool has(Field field, int foot = -1, int index = -1) const {
+    for (const Column& c : columns_) {
+      if (c.field == field && (foot < 0 || c.foot == foot) && (index < 0 || c.index == index)) {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  std::string missingWhy(const Column& want) const {
+    switch (want.field) {
+      case Field::kTime:
+      case Field::kGyro:
+      case Field::kAcc:
+        return "missing required column";
+      case Field::kQ:
+      case Field::kDq:
+        return "missing: joint columns need q_ and dq_ for all 12 joints";
+      case Field::kTau:
+        return "missing: the torque group needs all 12 tau_ columns";
+      case Field::kForce:
+        return "missing: the force group needs one column per foot";
+      case Field::kContact:
+        return "missing: the contact group needs one column per foot";
+      case Field::kFootP:
+      case Field::kFootVar:
+      case Field::kFootCov:
+        return "missing: each foot needs _px _py _pz and either _var_x.._z or _cov_xx.._zz";
+      case Field::kGtP:
+      case Field::kGtQ:
+      case Field::kGtV:
+        return "missing: the ground-truth group needs all of gt_px..gt_vz";
+    }
+    return "missing";
+  }
+
+  LogLayout deduceLayout() const {
+    LogLayout layout;
+    layout.joints = has(Field::kQ) || has(Field::kDq);
+    layout.torque = has(Field::kTau);
+    layout.force = has(Field::kForce);
+    layout.contact = has(Field::kContact);
+    layout.ground_truth = has(Field::kGtP) || has(Field::kGtQ) || has(Field::kGtV);
+    const bool var = has(Field::kFootVar);
+    const bool cov = has(Field::kFootCov);
+    if (var && cov) {
+      fail(header_line_, "", "foot columns mix _var_ and _cov_; use one form for every foot");
+    }
+    layout.foot_columns = var   ? FootCovariance::kDiagonal
+                          : cov ? FootCovariance::kFull
+                                : FootCovariance::kNone;
+    int feet = 0;  // one past the highest foot id any per-foot column mentions
+    for (const Column& c : columns_) {
+      if (c.field == Field::kForce || c.field == Field::kContact || c.field == Field::kFootP ||
+          c.field == Field::kFootVar || c.field == Field::kFootCov) {
+        feet = std::max(feet, c.foot + 1);
+      }
+    }
+    if (layout.foot_columns == FootCovariance::kNone && has(Field::kFootP)) {
+      fail(header_line_, "foot0_var_x", "missing: foot position columns need their variances");
+    }
+    if (!layout.joints && layout.foot_columns == FootCovariance::kNone) {
+      fail(header_line_, "q_FL_0",
+           "missing: a log needs joint columns (q_FL_0..q_RR_2, dq_FL_0..dq_RR_2) or body-frame "
+           "foot columns (foot0_px.. with variances)");
+    }
+    if (layout.torque && !layout.joints) {
+      fail(header_line_, "q_FL_0", "missing: torque columns need the joint columns");
+    }
+    if (layout.joints) {
+      if (feet > kNumLegs) {
+        fail(header_line_, "",
+             "a log with joint columns has 4 feet, but a column names foot " +
+                 std::to_string(feet - 1));
+      }
+      layout.num_feet = kNumLegs;
+    } else {
+      layout.num_feet = std::max(feet, 1);
+    }
+    return layout;
+  }
+
+  LogRow parseRow(int line, const std::vector<std::string_view>& fields) const {
+    if (fields.size() < columns_.size()) {
+      fail(line, columns_[fields.size()].name,
+           "too few fields: " + std::to_string(fields.size()) + " of " +
+               std::to_string(columns_.size()) + ", this column and those after it are missing");
+    }
+    if (fields.size() > columns_.size()) {
+      fail(line, "",
+           "too many fields: " + std::to_string(fields.size()) + ", the header has " +
+               std::to_string(columns_.size()));
+    }
+    LogRow row;
+    for (std::size_t i = 0; i < columns_.size(); ++i) {
+      const Column& column = columns_[i];
+      const double value = parseNumber(line, column.name, fields[i]);
+      checkValue(line, column, value, fields[i]);
+      setValue(row, column, value);
+    }
+    if (layout_has_quaternion_) {
+      const double norm = row.gt_q.norm();
+      if (std::abs(norm - 1.0) > 1e-6) {
+        fail(line, "gt_qw",
+             "expected a unit quaternion gt_qw..gt_qz, its norm is " + numberText(norm));
+      }
+    }
+    return row;
+  }
+
+  double parseNumber(int line, const std::string& column, std::string_view text) const {
+    if (text.empty()) fail(line, column, "expected a number, the field is empty");
+    double value = 0.0;
+    const char* first = text.data();
+    const char* last = text.data() + text.size();
+    if (*first == '+') ++first;  // from_chars takes no plus sign; other tools write one
+    const auto [end, ec] = std::from_chars(first, last, value);
+    if (ec == std::errc::result_out_of_range) {
+      fail(line, column, "expected a finite number, got '" + std::string(text) + "' (overflow)");
+    }
+    if (ec != std::errc() || end != last) {
+      fail(line, column, "expected a number, got '" + std::string(text) + "'");
+    }
+    if (!std::isfinite(value)) {
+      fail(line, column, "expected a finite number, got '" + std::string(text) + "'");
+    }
+    return value;
+  }
+
+  void checkValue(int line, const Column& column, double value, std::string_view text) const {
+    if (column.field == Field::kContact && value != 0.0 && value != 1.0) {
+      fail(line, column.name, "expected a contact flag 0 or 1, got '" + std::string(text) + "'");
+    }
+    const bool variance = column.field == Field::kFootVar ||
+                          (column.field == Field::kFootCov &&
+                           (column.index == 0 || column.index == 3 || column.index == 5));
+    if (variance && value < 0.0) {
+      fail(line, column.name, "expected a variance >= 0, got '" + std::string(text) + "'");
+    }
+  }
+
+  void checkTime(int line, const std::vector<LogRow>& rows) const {
+    if (rows.size() < 2) return;
+    const double t_prev = rows[rows.size() - 2].t;
+    const double t = rows.back().t;
+    if (!(t > t_prev)) {
+      fail(line, "t",
+           "timestamps must strictly increase: " + numberText(t) + " follows " +
+               numberText(t_prev) + " on line " + std::to_string(line - 1));
+    }
+    if (options_.max_gap && t - t_prev > *options_.max_gap) {
+      fail(line, "t",
+           "gap of " + numberText(t - t_prev) + " s after t = " + numberText(t_prev) + " on line " +
+               std::to_string(line - 1) + ", more than the allowed " +
+               numberText(*options_.max_gap) + " s");
+    }
+  }
+
+  std::string source_;
+  ReadOptions options_;
+  int header_line_ = 0;
+  bool layout_has_quaternion_ = false;
+  std::vector<Column> columns_;  // in header order
+};
+
+}  // namespace
+
+Log readLog(std::istream& in, const std::string& source, const ReadOptions& options) {
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw LogError(source, 0, "", "read error");
+  return Reader(source, options).read(std::move(text));
+}
+
+Log readLog(const std::string& path, const ReadOptions& options) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw LogError(path, 0, "", "cannot open the file for reading");
+  return readLog(in, path, options);
+}
+
+}  // namespace legkit::io

@@ -1,0 +1,234 @@
+// Every kind of bad file makes the reader throw a LogError that names the file, the line, the
+// column and what was expected. The broken files are written into a temporary folder.
+#include <unistd.h>
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "io/log_error.hpp"
+#include "io/log_reader.hpp"
+#include "io/log_writer.hpp"
+
+namespace io = legkit::io;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A small valid quadruped log with contact flags and ground truth: header on line 1, rows on
+// lines 2..6 at t = 0, 0.001, ..., 0.004.
+std::string validText() {
+  io::Log log;
+  log.layout.contact = true;
+  log.layout.ground_truth = true;
+  for (int i = 0; i < 5; ++i) {
+    io::LogRow row;
+    row.t = 0.001 * i;
+    row.acc = Eigen::Vector3d(0.0, 0.0, 9.81);
+    row.q.setConstant(0.1 * i);
+    row.contact = {true, false, false, true};
+    log.rows.push_back(row);
+  }
+  std::ostringstream out;
+  io::writeLog(out, log);
+  return out.str();
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+std::string join(const std::vector<std::string>& lines) {
+  std::string out;
+  for (const std::string& line : lines) out += line + "\n";
+  return out;
+}
+
+// Replaces field `column` (0-based) of line `line` (1-based).
+std::string withField(const std::string& text, int line, int column, const std::string& value) {
+  std::vector<std::string> ls = lines(text);
+  std::string& l = ls[line - 1];
+  std::size_t start = 0;
+  for (int i = 0; i < column; ++i) start = l.find(',', start) + 1;
+  const std::size_t end = l.find(',', start);
+  l.replace(start, end == std::string::npos ? std::string::npos : end - start, value);
+  return join(ls);
+}
+
+class TempDir {
+ public:
+  TempDir() : path_(fs::temp_directory_path() / ("legkit_io_test_" + std::to_string(getpid()))) {
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  std::string write(const std::string& name, const std::string& text) const {
+    const fs::path file = path_ / name;
+    std::ofstream(file, std::ios::binary) << text;
+    return file.string();
+  }
+
+ private:
+  fs::path path_;
+};
+
+struct Expected {
+  int line;
+  std::string column;
+  std::string message;  // a piece of the message
+};
+
+void checkError(const TempDir& dir, const std::string& name, const std::string& text,
+                const Expected& expected, const io::ReadOptions& options = {}) {
+  const std::string path = dir.write(name, text);
+  INFO("file " << name);
+  try {
+    io::readLog(path, options);
+    FAIL("no error for " << name);
+  } catch (const io::LogError& e) {
+    INFO("message: " << e.what());
+    CHECK(e.file() == path);
+    CHECK(e.line() == expected.line);
+    CHECK(e.column() == expected.column);
+    const std::string what = e.what();
+    CHECK(what.find(expected.message) != std::string::npos);
+    const std::string where =
+        path + (expected.line > 0 ? ":" + std::to_string(expected.line) : "") + ": ";
+    CHECK(what.rfind(where, 0) == 0);
+    if (!expected.column.empty()) {
+      CHECK(what.find("column '" + expected.column + "'") != std::string::npos);
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("The valid base file reads", "[57.3][log]") {
+  const TempDir dir;
+  const io::Log log = io::readLog(dir.write("valid.csv", validText()));
+  CHECK(log.rows.size() == 5);
+  CHECK(log.layout.contact);
+}
+
+TEST_CASE("Each broken file gives an error naming line and column", "[57.3][log]") {
+  const TempDir dir;
+  const std::string good = validText();
+  // Columns: 0 t, 1-3 gyro, 4-6 acc, 7-18 q, 19-30 dq, 31-34 contact, 35-44 gt.
+  checkError(dir, "non_numeric.csv", withField(good, 3, 5, "abc"),
+             {3, "acc_y", "expected a number, got 'abc'"});
+  checkError(dir, "trailing_text.csv", withField(good, 4, 8, "0.1x"),
+             {4, "q_FL_1", "expected a number, got '0.1x'"});
+  checkError(dir, "nan.csv", withField(good, 2, 3, "nan"),
+             {2, "gyro_z", "expected a finite number, got 'nan'"});
+  checkError(dir, "inf.csv", withField(good, 5, 20, "-inf"),
+             {5, "dq_FL_1", "expected a finite number, got '-inf'"});
+  checkError(dir, "overflow.csv", withField(good, 5, 1, "1e999"),
+             {5, "gyro_x", "expected a finite number"});
+  checkError(dir, "empty_field.csv", withField(good, 6, 10, ""),
+             {6, "q_FR_0", "the field is empty"});
+  checkError(dir, "bad_contact.csv", withField(good, 3, 32, "2"),
+             {3, "contact_FR", "expected a contact flag 0 or 1, got '2'"});
+  checkError(dir, "bad_quaternion.csv", withField(good, 4, 38, "0.5"),
+             {4, "gt_qw", "expected a unit quaternion"});
+
+  std::vector<std::string> ls = lines(good);
+  {  // too few fields: the last two are cut
+    std::vector<std::string> v = ls;
+    v[2] = v[2].substr(0, v[2].rfind(','));
+    v[2] = v[2].substr(0, v[2].rfind(','));
+    checkError(dir, "too_few.csv", join(v), {3, "gt_vy", "too few fields: 43 of 45"});
+  }
+  {
+    std::vector<std::string> v = ls;
+    v[4] += ",7";
+    checkError(dir, "too_many.csv", join(v), {5, "", "too many fields: 46, the header has 45"});
+  }
+  {  // timestamps: line 4 repeats line 3's time
+    checkError(dir, "not_increasing.csv", withField(good, 4, 0, "0.001"),
+               {4, "t", "timestamps must strictly increase: 0.001 follows 0.001 on line 3"});
+    checkError(dir, "backwards.csv", withField(good, 5, 0, "0.0015"),
+               {5, "t", "timestamps must strictly increase"});
+  }
+  {  // a dropped sample: t jumps from 0.002 to 0.004
+    std::vector<std::string> v = ls;
+    v.erase(v.begin() + 4);
+    io::ReadOptions options;
+    options.max_gap = 0.0015;
+    checkError(dir, "gap.csv", join(v), {5, "t", "gap of 0.002 s after t = 0.002 on line 4"},
+               options);
+    CHECK_NOTHROW(io::readLog(dir.write("gap_allowed.csv", join(v))));  // no bound by default
+  }
+  {  // header problems
+    checkError(dir, "unknown.csv", withField(good, 1, 7, "q_FL_O"),
+               {1, "q_FL_O", "unknown column (header field 8)"});
+    checkError(dir, "duplicate.csv", withField(good, 1, 2, "gyro_x"),
+               {1, "gyro_x", "appears twice in the header"});
+    checkError(dir, "alias_duplicate.csv", withField(good, 1, 32, "foot0_contact"),
+               {1, "foot0_contact", "duplicates column 'contact_FL'"});
+    checkError(dir, "empty_header_field.csv", withField(good, 1, 3, ""),
+               {1, "", "header field 4 is empty"});
+  }
+  {  // a required column and its data removed
+    std::string text;
+    for (const std::string& l : ls) {
+      std::vector<std::string> fields;
+      std::istringstream in(l);
+      for (std::string f; std::getline(in, f, ',');) fields.push_back(f);
+      fields.erase(fields.begin() + 6);  // acc_z
+      std::string joined;
+      for (std::size_t i = 0; i < fields.size(); ++i) joined += (i ? "," : "") + fields[i];
+      text += joined + "\n";
+    }
+    checkError(dir, "missing_acc_z.csv", text, {1, "acc_z", "missing required column"});
+  }
+  {  // half a ground-truth group
+    std::string text;
+    for (const std::string& l : ls) text += l.substr(0, l.rfind(',')) + "\n";
+    checkError(dir, "partial_gt.csv", text, {1, "gt_vz", "the ground-truth group needs all"});
+  }
+  {
+    checkError(dir, "empty.csv", "", {0, "", "no header line"});
+    checkError(dir, "header_only.csv", ls[0] + "\n", {1, "", "no data rows"});
+    std::vector<std::string> v = ls;
+    v.insert(v.begin() + 3, "");
+    checkError(dir, "blank_line.csv", join(v), {4, "", "blank line inside the data"});
+    CHECK_NOTHROW(io::readLog(dir.write("trailing_blank.csv", good + "\n\n")));
+  }
+}
+
+TEST_CASE("Foot columns: variances and incomplete feet", "[57.3][log]") {
+  const TempDir dir;
+  const std::string header =
+      "t,gyro_x,gyro_y,gyro_z,acc_x,acc_y,acc_z,foot0_px,foot0_py,foot0_pz,foot0_var_x,"
+      "foot0_var_y,foot0_var_z";
+  const std::string row = "0,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,1e-4,1e-4";
+  CHECK(io::readLog(dir.write("foot.csv", header + "\n" + row + "\n")).layout.num_feet == 1);
+  checkError(dir, "negative_variance.csv",
+             header + "\n" + row + "\n" + "0.001,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,-1e-4,1e-4\n",
+             {3, "foot0_var_y", "expected a variance >= 0, got '-1e-4'"});
+  checkError(dir, "foot_without_variance.csv",
+             "t,gyro_x,gyro_y,gyro_z,acc_x,acc_y,acc_z,foot0_px,foot0_py,foot0_pz\n0,0,0,0,0,0,0,0,"
+             "0,0\n",
+             {1, "foot0_var_x", "foot position columns need their variances"});
+  checkError(dir, "incomplete_foot.csv", header + ",foot1_px\n" + row + ",0\n",
+             {1, "foot1_py", "each foot needs _px _py _pz"});
+  checkError(dir, "no_legs.csv", "t,gyro_x,gyro_y,gyro_z,acc_x,acc_y,acc_z\n0,0,0,0,0,0,0\n",
+             {1, "q_FL_0", "a log needs joint columns"});
+}
+
+TEST_CASE("A missing file and an unwritable log are errors too", "[57.3][log]") {
+  const TempDir dir;
+  CHECK_THROWS_WITH(io::readLog("/nonexistent/legkit.csv"),
+                    "/nonexistent/legkit.csv: cannot open the file for reading");
+  io::Log log;
+  log.rows.resize(2);  // both at t = 0
+  std::ostringstream out;
+  CHECK_THROWS_WITH(io::writeLog(out, log, "mem"),
+                    Catch::Matchers::Contains("mem:3: column 't': timestamps must strictly"));
+  log.rows[1].t = 1.0;
+  log.rows[1].gyro.x() = std::nan("");
+  CHECK_THROWS_WITH(io::writeLog(out, log, "mem"),
+                    Catch::Matchers::Contains("mem:3: column 'gyro_x': cannot write a NaN"));
+}
