@@ -13,6 +13,8 @@ struct ImuNoise {
 
   // The chapter's Unitree Go2 table (section 57.2).
   static ImuNoise go2() { return {}; }
+  // A perfect sensor: no white noise, constant biases (for bias-only studies).
+  static ImuNoise noiseless() { return {0.0, 0.0, 0.0, 0.0}; }
 
   // Discretisation at sample period dt: white noise of one sample has standard deviation
   // density / sqrt(dt); the bias random walk moves by density * sqrt(dt) per sample.
