@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "lie_accuracy.hpp"
 #include "tour.hpp"
 
 int main(int argc, char** argv) {
@@ -16,9 +17,18 @@ int main(int argc, char** argv) {
   CLI::App* tour = app.add_subcommand("tour", "Identities of lie/ checked on random elements");
   tour->add_option("--seed", seed, "Random seed")->capture_default_str();
 
+  std::string accuracyCsv;
+  int accuracyPoints = 400;
+  CLI::App* accuracy = app.add_subcommand(
+      "lie-accuracy", "Accuracy of lie/'s angle coefficients vs naive closed forms (figure data)");
+  accuracy->add_option("--csv", accuracyCsv, "Write one row per theta to this CSV file");
+  accuracy->add_option("--points", accuracyPoints, "Grid points from 1e-10 to pi")
+      ->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*run || *tour) return legkit::tools::lieTour(std::cout, seed);
+    if (*accuracy) return legkit::tools::lieAccuracy(std::cout, accuracyCsv, accuracyPoints);
   } catch (const std::exception& e) {
     std::cerr << "legkit: " << e.what() << "\n";
     return 2;
