@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "lie_accuracy.hpp"
+#include "sim_command.hpp"
 #include "tour.hpp"
 
 int main(int argc, char** argv) {
@@ -25,10 +26,13 @@ int main(int argc, char** argv) {
   accuracy->add_option("--points", accuracyPoints, "Grid points from 1e-10 to pi")
       ->capture_default_str();
 
+  legkit::tools::SimCommand sim(app);
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*run || *tour) return legkit::tools::lieTour(std::cout, seed);
     if (*accuracy) return legkit::tools::lieAccuracy(std::cout, accuracyCsv, accuracyPoints);
+    if (sim.parsed()) return sim.run(std::cout);
   } catch (const std::exception& e) {
     std::cerr << "legkit: " << e.what() << "\n";
     return 2;

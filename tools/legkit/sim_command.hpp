@@ -1,0 +1,43 @@
+// `legkit sim`: simulate a scenario and write its log (io/ format), e.g.
+//   legkit sim --scenario trot --duration 60 --seed 1 --out log.csv
+//   legkit sim --scenario trot --slip-foot FR --slip-start 5 --slip-duration 0.5 --slip-speed 0.3
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace legkit::tools {
+
+class SimCommand {
+ public:
+  // Registers the `sim` subcommand and its options on `app`.
+  explicit SimCommand(CLI::App& app);
+  SimCommand(const SimCommand&) = delete;  // the options are bound to this object's members
+  SimCommand& operator=(const SimCommand&) = delete;
+
+  bool parsed() const { return static_cast<bool>(*command_); }
+  // Simulates and writes the log; prints a one-line summary. Returns the exit code.
+  int run(std::ostream& out) const;
+
+ private:
+  CLI::App* command_;
+  std::string scenario_ = "trot";
+  double duration_ = 60.0;
+  double rate_ = 1000.0;
+  unsigned seed_ = 1;
+  std::string out_ = "log.csv";
+  bool noiseless_ = false;
+  bool no_ground_truth_ = false;
+  std::string slip_foot_;
+  double slip_start_ = 5.0;
+  double slip_duration_ = 0.5;
+  double slip_speed_ = 0.3;
+  std::vector<double> slip_direction_{1.0, 0.0};
+  double contact_offset_ = 0.0;
+  std::vector<std::string> dropouts_;
+  double dropout_probability_ = 0.0;
+};
+
+}  // namespace legkit::tools
