@@ -17,22 +17,33 @@ Jet oscillation(double amplitude, double frequency, const Jet& ramp, double t) {
   return amplitude * (ramp * sin(2.0 * kPi * frequency * Jet::time(t)));
 }
 
-// Vertical motion of a bound relative to the nominal height: the gait alternates stance (of one
+// Vertical motion of a bound relative to the nominal height. The gait alternates stance (of one
 // leg pair, duty * period long) and flight, twice per period. In flight the base falls freely
-// (z'' = -g exactly); in stance a quintic joins the landing state to the take-off state, which
-// mirror each other (same height, opposite vertical speed, acceleration -g at both ends), so the
-// whole profile is twice continuously differentiable and periodic.
+// (z'' = -g exactly). In stance the legs push: z'' = -g + c phi(s), s = u / T_s, with the bump
+// phi(s) = s^2 (1 - s)^2, whose value and slope vanish at both ends; c is chosen so that the
+// stance turns the landing speed -v_0 into the take-off speed +v_0 = g T_f / 2:
+//   c = 30 (2 v_0 + g T_s) / T_s          (the integral of phi over [0, 1] is 1/30).
+// With Phi1(s) = s^3/3 - s^4/2 + s^5/5 and Phi2(s) = s^4/12 - s^5/10 + s^6/30 (its integrals):
+//   z' = -v_0 - g u + c T_s Phi1(s),   z = -v_0 u - g u^2 / 2 + c T_s^2 Phi2(s),
+// and z returns to 0 at take-off. Acceleration and jerk are continuous everywhere.
 Jet ballisticHeight(const Gait& gait, double t) {
   const double half = 0.5 * gait.period;
-  const double stance = gait.duty * gait.period;
-  const double flight = half - stance;
-  const double v_takeoff = 0.5 * kGravity * flight;
+  const double Ts = gait.duty * gait.period;  // stance
+  const double Tf = half - Ts;                // flight
+  const double v0 = 0.5 * kGravity * Tf;
   const double u = std::fmod(std::max(t - gait.start, 0.0), half);
-  if (u < stance) {
-    return quinticHermite(0.0, -v_takeoff, -kGravity, 0.0, v_takeoff, -kGravity, stance, u);
+  if (u < Ts) {
+    const double c = 30.0 * (2.0 * v0 + kGravity * Ts) / Ts;
+    const double s = u / Ts;
+    const double s2 = s * s, s3 = s2 * s, s4 = s3 * s;
+    const double phi = s2 * (1.0 - s) * (1.0 - s);
+    const double Phi1 = s3 / 3.0 - s4 / 2.0 + s4 * s / 5.0;
+    const double Phi2 = s4 / 12.0 - s4 * s / 10.0 + s4 * s2 / 30.0;
+    return {-v0 * u - 0.5 * kGravity * u * u + c * Ts * Ts * Phi2,
+            -v0 - kGravity * u + c * Ts * Phi1, -kGravity + c * phi};
   }
-  const double w = u - stance;
-  return {v_takeoff * w - 0.5 * kGravity * w * w, v_takeoff - kGravity * w, -kGravity};
+  const double w = u - Ts;
+  return {v0 * w - 0.5 * kGravity * w * w, v0 - kGravity * w, -kGravity};
 }
 
 }  // namespace

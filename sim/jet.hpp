@@ -66,22 +66,27 @@ inline Jet quinticHermite(double p0, double v0, double a0, double p1, double v1,
           combine(h0dd, h1dd, h2dd, h3dd, h4dd, h5dd) / T2};
 }
 
-// Smooth start from 0 to 1 over [t0, t0 + T] (quintic smoothstep, zero rate and acceleration at
-// both ends), as a jet.
+// Smooth start from 0 to 1 over [t0, t0 + T]: the septic smoothstep 35x^4 - 84x^5 + 70x^6 - 20x^7
+// (x = (t - t0) / T), whose first three derivatives vanish at both ends, so a ramped motion keeps
+// a continuous jerk.
 inline Jet smoothStep(double t0, double T, double t) {
   if (t <= t0) return Jet::constant(0.0);
   if (t >= t0 + T) return Jet::constant(1.0);
-  return quinticHermite(0.0, 0.0, 0.0, 1.0, 0.0, 0.0, T, t - t0);
+  const double x = (t - t0) / T;
+  const double x2 = x * x, x3 = x2 * x, x4 = x3 * x;
+  return {x4 * (35.0 - 84.0 * x + 70.0 * x2 - 20.0 * x3),
+          x3 * (140.0 - 420.0 * x + 420.0 * x2 - 140.0 * x3) / T,
+          x2 * (420.0 - 1680.0 * x + 2100.0 * x2 - 840.0 * x3) / (T * T)};
 }
 
 // Integral of smoothStep from t0 to t: the distance covered by a speed that ramps up smoothly.
 inline Jet smoothStepIntegral(double t0, double T, double t) {
   if (t <= t0) return Jet::constant(0.0);
-  const Jet s = smoothStep(t0, T, t);
   if (t >= t0 + T) return {0.5 * T + (t - t0 - T), 1.0, 0.0};
-  const double x = (t - t0) / T;  // integral of 10x^3 - 15x^4 + 6x^5 is 2.5x^4 - 3x^5 + x^6
-  const double x4 = x * x * x * x;
-  return {T * x4 * (2.5 - 3.0 * x + x * x), s.f, s.d};
+  const Jet s = smoothStep(t0, T, t);
+  const double x = (t - t0) / T;
+  const double x2 = x * x, x3 = x2 * x, x5 = x2 * x3;
+  return {T * x5 * (7.0 - 14.0 * x + 10.0 * x2 - 2.5 * x3), s.f, s.d};
 }
 
 }  // namespace legkit::sim
