@@ -4,7 +4,7 @@
 
 #include "eval/metrics.hpp"
 
-using legkit::eval::EstimateSample;
+using legkit::EstimateSample;
 using legkit::eval::Trajectory;
 
 namespace {
