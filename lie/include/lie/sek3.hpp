@@ -72,7 +72,7 @@ class SEK3 {
   // Checked construction from a (3+K)x(3+K) matrix: throws lie::NotInGroup naming what is wrong.
   static SEK3 fromMatrix(const Matrix& M, Scalar tol = Scalar(1e-9)) {
     const Eigen::Index k = M.rows() - 3;
-    if (M.rows() != M.cols() || k < 1 || k > MaxK || (!kDynamic && k != K)) {
+    if (M.rows() != M.cols() || k < 0 || k > MaxK || (!kDynamic && k != K)) {
       std::ostringstream os;
       os << "SEK3::fromMatrix: expected a square matrix of size 3+K with K "
          << (kDynamic ? "<= " : "= ") << MaxK << ", got " << M.rows() << "x" << M.cols();
@@ -274,9 +274,10 @@ class SEK3 {
 
   bool isApprox(const SEK3& Y, Scalar tol = Scalar(1e-10)) const {
     if (numCols() != Y.numCols()) return false;
+    const bool rotationClose = (R_ - Y.R_).cwiseAbs().maxCoeff() <= tol;
+    if (numCols() == 0) return rotationClose;  // maxCoeff() of an empty matrix is undefined
     const Scalar scale = std::max(Scalar(1), C_.cwiseAbs().maxCoeff());
-    return (R_ - Y.R_).cwiseAbs().maxCoeff() <= tol &&
-           (C_ - Y.C_).cwiseAbs().maxCoeff() <= tol * scale;
+    return rotationClose && (C_ - Y.C_).cwiseAbs().maxCoeff() <= tol * scale;
   }
 
   SEK3 normalized() const {
