@@ -2,6 +2,7 @@
 //   legkit-imu-figures [OUT_DIR]      (default: the current directory)
 // writes
 //   57.1-drift.csv               dead-reckoning error of a standing robot vs time, per bias case
+//                                (a still IMU, and the simulator's swaying stand scenario)
 //   57.2-gyro-step-error.csv     one-step error of R_{k+1} = R_k Exp(w_k dt) vs dt, per profile
 //   57.2-gyro-impact.csv         one-step error vs impact severity at 400 Hz and 1 kHz
 //   57.2-bias-correction.csv     preintegration bias correction error vs bias change
@@ -17,7 +18,9 @@
 
 #include "estimation/imu/drift_study.hpp"
 #include "estimation/imu/gyro_integration.hpp"
+#include "estimation/imu/log_drift.hpp"
 #include "estimation/imu/preintegration.hpp"
+#include "sim/simulator.hpp"
 
 namespace {
 
@@ -31,12 +34,24 @@ std::ofstream openCsv(const std::string& dir, const std::string& name) {
   return f;
 }
 
+// Dead reckoning on a noiseless simulated log of the "stand" scenario (legkit::sim), whose IMU
+// carries the constant bias b.
+std::vector<legkit::imu::DriftSample> simulatedStandDrift(const legkit::model::ImuBias& b) {
+  legkit::sim::SimOptions o;
+  o.scenario = legkit::sim::scenarioByName("stand");
+  o.duration = 60.001;
+  o.noiseless();
+  o.initial_bias = b;
+  return legkit::imu::deadReckoningDriftOnLog(legkit::sim::simulate(o).log, {}, 0.1);
+}
+
 // Section 57.1: a standing robot, one bias at a time, dead reckoning that ignores the bias.
 void driftFigure(const std::string& dir) {
   struct Case {
     const char* name;
     legkit::model::ImuBias bias;
     bool go2_noise;
+    bool simulator = false;  // the simulator's swaying "stand" scenario instead of a still IMU
   };
   const Vector3d z = Vector3d::Zero();
   const std::vector<Case> cases = {
@@ -45,6 +60,8 @@ void driftFigure(const std::string& dir) {
       {"gyro_bias_yaw_0.01", {Vector3d(0, 0, 0.01), z}, false},
       {"accel_bias_0.01_go2_noise", {z, Vector3d(0.01, 0, 0)}, true},
       {"go2_noise_only", {z, z}, true},
+      {"sim_stand_accel_bias_0.01", {z, Vector3d(0.01, 0, 0)}, false, true},
+      {"sim_stand_gyro_bias_roll_0.01", {Vector3d(0.01, 0, 0), z}, false, true},
   };
   std::ofstream f = openCsv(dir, "57.1-drift.csv");
   f << "case,t,position_error,velocity_error,attitude_error_deg\n";
@@ -56,7 +73,8 @@ void driftFigure(const std::string& dir) {
     study.bias = c.bias;
     if (c.go2_noise) study.noise = legkit::model::ImuNoise::go2();
     study.seed = 57;
-    const auto drift = legkit::imu::runStationaryDrift(study);
+    const auto drift =
+        c.simulator ? simulatedStandDrift(c.bias) : legkit::imu::runStationaryDrift(study);
     for (const auto& s : drift)
       f << c.name << ',' << s.t << ',' << s.position_error << ',' << s.velocity_error << ','
         << s.attitude_error_deg << '\n';

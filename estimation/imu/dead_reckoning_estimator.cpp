@@ -1,0 +1,24 @@
+#include "estimation/imu/dead_reckoning_estimator.hpp"
+
+#include "estimation/imu/dead_reckoning.hpp"
+
+namespace legkit::imu {
+
+void DeadReckoningEstimator::reset(const EstimateSample& x0) {
+  x_ = {lie::SO3d::fromQuaternion(x0.q), x0.v, x0.p};
+  t_ = x0.t;
+  has_previous_ = false;
+}
+
+void DeadReckoningEstimator::step(const StepInput& in) {
+  if (has_previous_ && in.dt > 0.0) x_ = deadReckoningStep(x_, previous_, model::ImuBias{}, in.dt);
+  previous_ = in.imu;
+  has_previous_ = true;
+  t_ = in.t;
+}
+
+EstimateSample DeadReckoningEstimator::estimate() const {
+  return {t_, x_.R.quaternion(), x_.v, x_.p};
+}
+
+}  // namespace legkit::imu
