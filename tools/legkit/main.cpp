@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "lie_accuracy.hpp"
+#include "run_command.hpp"
 #include "sim_command.hpp"
 #include "tour.hpp"
 
@@ -10,11 +11,9 @@ int main(int argc, char** argv) {
   CLI::App app{"legkit: legged-robot state estimation, a teaching and reference kit"};
   app.require_subcommand(1);
 
-  unsigned seed = 1;
-  CLI::App* run = app.add_subcommand(
-      "run", "The main job. Until the estimators land it runs the Lie-group tour");
-  run->add_option("--seed", seed, "Random seed")->capture_default_str();
+  legkit::tools::RunCommand run(app);
 
+  unsigned seed = 1;
   CLI::App* tour = app.add_subcommand("tour", "Identities of lie/ checked on random elements");
   tour->add_option("--seed", seed, "Random seed")->capture_default_str();
 
@@ -30,7 +29,8 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
   try {
-    if (*run || *tour) return legkit::tools::lieTour(std::cout, seed);
+    if (run.parsed()) return run.run(std::cout);
+    if (*tour) return legkit::tools::lieTour(std::cout, seed);
     if (*accuracy) return legkit::tools::lieAccuracy(std::cout, accuracyCsv, accuracyPoints);
     if (sim.parsed()) return sim.run(std::cout);
   } catch (const std::exception& e) {

@@ -1,0 +1,35 @@
+#include "estimation/leg_odometry/leg_odometry_estimator.hpp"
+
+#include "estimation/leg_odometry/velocity_fusion.hpp"
+
+namespace legkit::leg_odometry {
+
+void LegOdometryEstimator::reset(const EstimateSample& x0) {
+  R_ = lie::SO3d::fromQuaternion(x0.q);
+  v_ = x0.v;
+  p_ = x0.p;
+  t_ = x0.t;
+  has_previous_ = false;
+}
+
+void LegOdometryEstimator::step(const StepInput& in) {
+  const Eigen::Vector3d v_before = v_;
+  if (has_previous_ && in.dt > 0.0) {
+    const Eigen::Vector3d a_world = R_ * previous_.a_m + model::gravity();
+    R_ = R_ * lie::SO3d::Exp(previous_.w_m * in.dt);  // R_{k+1} = R_k Exp(w_m dt)
+    v_ += a_world * in.dt;                            // flight: the IMU alone
+  }
+  bool legs_measure_velocity = in.num_contacts > 0;
+  for (const ContactMeasurement& c : in.stance()) legs_measure_velocity &= c.v_body.has_value();
+  if (legs_measure_velocity) v_ = meanVelocity(R_.matrix(), in.imu.w_m, in.stance());
+  if (has_previous_) p_ += 0.5 * (v_before + v_) * in.dt;
+  previous_ = in.imu;
+  has_previous_ = true;
+  t_ = in.t;
+}
+
+EstimateSample LegOdometryEstimator::estimate() const {
+  return {t_, R_.quaternion(), v_, p_};
+}
+
+}  // namespace legkit::leg_odometry

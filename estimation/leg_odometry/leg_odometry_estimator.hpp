@@ -1,0 +1,31 @@
+// Leg odometry as a stand-alone estimator (section 57.3), the simplest use of the legs:
+//   attitude  gyro integration, R_{k+1} = R_k Exp(w_m dt)          (no correction: drifts)
+//   velocity  in stance, the mean of the stance feet's v_i = -R (w_b x r_i + r_dot_i);
+//             in flight (no foot down), the IMU step v += (R a_m + g) dt
+//   position  p += (v_k + v_{k+1}) dt / 2
+// It has no covariance and no bias estimate: the filters of sections 57.4-57.5 fuse the same
+// measurements properly. Here it measures how good the legs' velocity is on its own.
+#pragma once
+
+#include "estimation/estimator.hpp"
+#include "lie/so3.hpp"
+
+namespace legkit::leg_odometry {
+
+class LegOdometryEstimator final : public Estimator {
+ public:
+  std::string name() const override { return "leg-odometry"; }
+  void reset(const EstimateSample& x0) override;
+  void step(const StepInput& in) override;
+  EstimateSample estimate() const override;
+
+ private:
+  lie::SO3d R_;
+  Eigen::Vector3d v_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d p_ = Eigen::Vector3d::Zero();
+  double t_ = 0.0;
+  model::ImuReading previous_;
+  bool has_previous_ = false;
+};
+
+}  // namespace legkit::leg_odometry
