@@ -1,5 +1,6 @@
 #include "estimation/imu/drift_study.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>

@@ -62,7 +62,7 @@ TEST_CASE("57.1 drift table on the simulated stand scenario", "[sim][drift]") {
     const auto s = driftAt(drift, t);
     INFO("t = " << t << " s: |dp| = " << s.position_error << " m, |dv| = " << s.velocity_error
                 << " m/s, dtheta = " << s.attitude_error_deg << " deg");
-    CHECK(s.position_error == Approx(0.005 * t * t).epsilon(0.05));
+    CHECK(s.position_error == Approx(0.005 * t * t).epsilon(0.01));  // measured: within 0.12 %
   }
 }
 
@@ -71,7 +71,7 @@ TEST_CASE("57.1 gyro bias on the simulated stand scenario: 34 deg after 60 s", "
   const auto drift = deadReckoningDriftOnLog(sim.log, ImuBias{}, 10.0);
   const auto s = driftAt(drift, 60.0);
   INFO("|dp| = " << s.position_error << " m, dtheta = " << s.attitude_error_deg << " deg");
-  CHECK(s.attitude_error_deg == Approx(34.38).epsilon(0.02));
+  CHECK(s.attitude_error_deg == Approx(34.38).epsilon(0.01));  // measured: 34.33 deg
 }
 
 TEST_CASE("57.2 preintegration between keyframes reproduces the simulated trot",
