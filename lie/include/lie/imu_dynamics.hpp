@@ -40,8 +40,8 @@ Matrix3<Scalar> dGammaTimesVector(const Vector3<Scalar>& phi, const Vector3<Scal
   static_assert(m == 1 || m == 2, "provided for Gamma_1 and Gamma_2");
   const Vector3<Scalar> pa = phi.cross(a);
   const Vector3<Scalar> ppa = phi.cross(pa);
-  const Matrix3<Scalar> dTriple = phi.dot(a) * Matrix3<Scalar>::Identity() +
-                                  phi * a.transpose() - Scalar(2) * a * phi.transpose();
+  const Matrix3<Scalar> dTriple = phi.dot(a) * Matrix3<Scalar>::Identity() + phi * a.transpose() -
+                                  Scalar(2) * a * phi.transpose();
   return -c.template G<m + 1>() * hat3(a) + c.template G<m + 2>() * dTriple +
          c.template H<m + 1>() * pa * phi.transpose() +
          c.template H<m + 2>() * ppa * phi.transpose();
@@ -50,8 +50,8 @@ Matrix3<Scalar> dGammaTimesVector(const Vector3<Scalar>& phi, const Vector3<Scal
 // Exact propagation of X over dt with constant bias-corrected body rate w and specific force a.
 template <typename Group>
 Group propagate(const Group& X, const Vector3<typename Group::Scalar>& w,
-                const Vector3<typename Group::Scalar>& a,
-                const Vector3<typename Group::Scalar>& g, typename Group::Scalar dt) {
+                const Vector3<typename Group::Scalar>& a, const Vector3<typename Group::Scalar>& g,
+                typename Group::Scalar dt) {
   using Scalar = typename Group::Scalar;
   const Vector3<Scalar> phi = w * dt;
   const AngleSeries<Scalar> c(phi.squaredNorm());
@@ -65,7 +65,7 @@ Group propagate(const Group& X, const Vector3<typename Group::Scalar>& w,
   const Vector3<Scalar> v = X.col(0);
   const Vector3<Scalar> p = X.col(1);
   typename Group::Columns C = X.columns();
-  C.col(0) = v + X.R() * dv + g * dt;                                 // v + R Gamma_1 a dt + g dt
+  C.col(0) = v + X.R() * dv + g * dt;                                // v + R Gamma_1 a dt + g dt
   C.col(1) = p + v * dt + X.R() * dp + Scalar(0.5) * g * (dt * dt);  // p + v dt + R Gamma_2 ...
   return Group(SO3<Scalar>::fromQuaternion(Eigen::Quaternion<Scalar>(X.R() * dR)), C);
 }
@@ -78,8 +78,8 @@ typename Group::Jacobian phi(Eigen::Index numCols, const Vector3<typename Group:
   const Eigen::Index n = 3 + 3 * numCols;
   typename Group::Jacobian F = Group::Jacobian::Identity(n, n);
   const Matrix3<Scalar> G = hat3(g);
-  F.template block<3, 3>(3, 0) = G * dt;                         // v <- phi
-  F.template block<3, 3>(6, 0) = Scalar(0.5) * G * (dt * dt);    // p <- phi
+  F.template block<3, 3>(3, 0) = G * dt;                            // v <- phi
+  F.template block<3, 3>(6, 0) = Scalar(0.5) * G * (dt * dt);       // p <- phi
   F.template block<3, 3>(6, 3) = Matrix3<Scalar>::Identity() * dt;  // p <- v
   return F;
 }
@@ -128,8 +128,19 @@ phiWithBias(const Group& X_next, const Vector3<typename Group::Scalar>& w,
       F;
   F.setIdentity(n + 6, n + 6);
   F.topLeftCorner(n, n) = phi<Group>(X_next.numCols(), g, dt);
-  F.topRightCorner(n, 6).noalias() =
-      -X_next.Adj() * incrementJacobian<Group>(X_next.numCols(), w, a, dt);
+  // -Ad_X J_u block by block: Ad_X = [[R, 0], [[c_i]_x R, R]] and J_u has only the rotation,
+  // velocity and position rows, so each row block is R J_phi crossed with c_i, plus R J_i.
+  const auto J = incrementJacobian<Group>(X_next.numCols(), w, a, dt);
+  const Matrix3<Scalar>& R = X_next.R();
+  const Eigen::Matrix<Scalar, 3, 6> RJphi = R * J.template topRows<3>();
+  F.template block<3, 6>(0, n) = -RJphi;
+  for (Eigen::Index i = 0; i < X_next.numCols(); ++i) {
+    const Vector3<Scalar> c = X_next.col(i);
+    Eigen::Matrix<Scalar, 3, 6> rows;
+    for (int j = 0; j < 6; ++j) rows.col(j) = -c.cross(RJphi.col(j));
+    if (i < 2) rows.noalias() -= R * J.template block<3, 6>(3 + 3 * i, 0);  // v and p rows
+    F.template block<3, 6>(3 + 3 * i, n) = rows;
+  }
   return F;
 }
 

@@ -86,12 +86,11 @@ class SEK3 {
         bottomError = std::max(bottomError, std::abs(bottom(r, j) - Scalar(j == 3 + r ? 1 : 0)));
     if (!(bottomError <= tol)) {
       std::ostringstream os;
-      os << "SEK3::fromMatrix: the last " << k << " rows must be [0 | I] (max error "
-         << bottomError << " > tol " << tol << ")";
+      os << "SEK3::fromMatrix: the last " << k << " rows must be [0 | I] (max error " << bottomError
+         << " > tol " << tol << ")";
       throw NotInGroup(os.str());
     }
-    return SEK3(SO3Type::fromMatrix(M.template topLeftCorner<3, 3>(), tol),
-                M.topRightCorner(3, k));
+    return SEK3(SO3Type::fromMatrix(M.template topLeftCorner<3, 3>(), tol), M.topRightCorner(3, k));
   }
 
   // Accessors ---------------------------------------------------------------------------
@@ -134,29 +133,22 @@ class SEK3 {
   // Group operations ---------------------------------------------------------------------
   SEK3 operator*(const SEK3& Y) const {
     checkSameK(Y, "SEK3::operator*");
-    SEK3 Z(Y.numCols());
-    Z.R_.noalias() = R_ * Y.R_;
-    Z.C_.noalias() = R_ * Y.C_;
-    Z.C_ += C_;
-    return Z;
+    return SEK3(R_ * Y.R_, R_ * Y.C_ + C_, Unchecked{});
   }
-  SEK3 compose(const SEK3& Y, Jacobian* J_out_this = nullptr,
-               Jacobian* J_out_Y = nullptr) const {
+  SEK3 compose(const SEK3& Y, Jacobian* J_out_this = nullptr, Jacobian* J_out_Y = nullptr) const {
     if (J_out_this) *J_out_this = Y.inverse().Adj();
     if (J_out_Y) J_out_Y->setIdentity(Y.dof(), Y.dof());
     return *this * Y;
   }
   SEK3 inverse(Jacobian* J_out_this = nullptr) const {
     if (J_out_this) *J_out_this = -Adj();
-    SEK3 Z(numCols());
-    Z.R_ = R_.transpose();
-    Z.C_.noalias() = -Z.R_ * C_;
-    return Z;
+    const Matrix3 Rt = R_.transpose();
+    return SEK3(Rt, -Rt * C_, Unchecked{});
   }
 
   // Action on a point, with column i playing the translation: R x + c_i (for SE(3), i = 0).
-  Point act(const Point& x, Eigen::Index i = 0, Eigen::Matrix<Scalar, 3, DoF, 0, 3, MaxDoF>*
-                                                    J_out_this = nullptr,
+  Point act(const Point& x, Eigen::Index i = 0,
+            Eigen::Matrix<Scalar, 3, DoF, 0, 3, MaxDoF>* J_out_this = nullptr,
             Matrix3* J_out_x = nullptr) const {
     if (J_out_this) {
       J_out_this->setZero(3, dof());
@@ -172,16 +164,15 @@ class SEK3 {
     const Eigen::Index k = columnsOfTangent(xi, "SEK3::Exp");
     const Vector3 phi = xi.template head<3>();
     const AngleSeries<Scalar> c(phi.squaredNorm());
-    SEK3 X(k);
-    X.R_ = SO3Type::expMatrix(phi, c);
-    X.C_.noalias() = SO3Type::Jr(-phi, c) * rhoOf(xi, k);  // Jl(phi) = Jr(-phi)
     if (J_out_xi) *J_out_xi = Jr(xi);
-    return X;
+    return SEK3(SO3Type::expMatrix(phi, c), SO3Type::Jr(-phi, c) * rhoOf(xi, k),  // Jl = Jr(-phi)
+                Unchecked{});
   }
 
   Tangent Log(Jacobian* J_out_this = nullptr) const {
-    const Vector3 phi = SO3Type::logOfQuaternion(Eigen::Quaternion<Scalar>(R_));
-    const AngleSeries<Scalar> c(phi.squaredNorm());
+    Scalar sinHalf, cosHalf;
+    const Vector3 phi = SO3Type::logOfQuaternion(Eigen::Quaternion<Scalar>(R_), &sinHalf, &cosHalf);
+    const AngleSeries<Scalar> c(phi.squaredNorm(), sinHalf, cosHalf);
     Tangent xi(dof());
     xi.template head<3>() = phi;
     rhoOf(xi, numCols()).noalias() = jlInv(phi, c) * C_;
@@ -263,8 +254,7 @@ class SEK3 {
 
   // A uniformly random rotation with columns drawn from N(0, scale^2 I).
   template <typename Generator>
-  static SEK3 Random(Generator& gen, Scalar scale = Scalar(1),
-                     Eigen::Index k = kDynamic ? 0 : K) {
+  static SEK3 Random(Generator& gen, Scalar scale = Scalar(1), Eigen::Index k = kDynamic ? 0 : K) {
     std::normal_distribution<Scalar> n01(Scalar(0), Scalar(1));
     Columns C(3, k);
     for (Eigen::Index j = 0; j < k; ++j)
@@ -280,27 +270,31 @@ class SEK3 {
     return rotationClose && (C_ - Y.C_).cwiseAbs().maxCoeff() <= tol * scale;
   }
 
-  SEK3 normalized() const {
-    return SEK3(rotation().normalized(), C_);
-  }
+  SEK3 normalized() const { return SEK3(rotation().normalized(), C_); }
 
-  // The SE(3) coupling block Q(phi, rho) of the left Jacobian (see the file comment).
+  // The SE(3) coupling block Q(phi, rho) of the left Jacobian. With a = phi.rho and x = theta^2,
+  // the identities [phi][rho][phi] = -a [phi], [phi][rho] + [rho][phi] = phi rho^T + rho phi^T
+  // - 2a I and [phi]^2 [rho] + [rho][phi]^2 = -x [rho] - a [phi] turn the file comment's sum of
+  // 3x3 products into outer products:
+  //   Q = [rho]/2 + G_3 (phi rho^T + rho phi^T - 2a I - a [phi]) + G_4 (2a [phi] - x [rho])
+  //       - (G_4 - 3 G_5) a (phi phi^T - x I).
   static Matrix3 Q(const Vector3& phi, const Vector3& rho, const AngleSeries<Scalar>& c) {
-    const Matrix3 P = hat3(phi);
-    const Matrix3 Rh = hat3(rho);
-    const Matrix3 PR = P * Rh;
-    const Matrix3 RP = Rh * P;
-    const Matrix3 PRP = PR * P;
-    const Scalar g3 = c.template G<3>(), g4 = c.template G<4>(), g5 = c.template G<5>();
-    return Scalar(0.5) * Rh + g3 * (PR + RP + PRP) +
-           g4 * (P * PR + RP * P - Scalar(3) * PRP) +
-           Scalar(0.5) * (g4 - Scalar(3) * g5) * (PRP * P + P * PRP);
+    const Scalar a = phi.dot(rho), x = c.theta2();
+    const Scalar g3 = c.template G<3>(), g4 = c.template G<4>();
+    const Scalar k = -c.G45() * a;  // coefficient of phi phi^T - x I
+    Matrix3 out = g3 * (phi * rho.transpose() + rho * phi.transpose());
+    out += skewSeries(phi, x, -Scalar(2) * g3 * a, Scalar(2) * g4 * a - g3 * a, k);
+    out += hat3(Vector3((Scalar(0.5) - g4 * x) * rho));
+    return out;
   }
 
  private:
+  struct Unchecked {};
+  template <typename RType, typename CType>
+  SEK3(const RType& R, const CType& C, Unchecked) : R_(R), C_(C) {}
+
   static Matrix3 jlInv(const Vector3& phi, const AngleSeries<Scalar>& c) {
-    const Matrix3 P = hat3(phi);
-    return Matrix3::Identity() - Scalar(0.5) * P + c.jlInvD() * P * P;
+    return SO3Type::JlInv(phi, c);
   }
 
   // The tangent's column part (rho_1..rho_k) viewed as a 3 x k matrix.
@@ -312,12 +306,14 @@ class SEK3 {
   }
 
   static void checkColumnCount(Eigen::Index k, const char* where) {
-    if (k < 0 || k > MaxK || (!kDynamic && k != K)) {
-      std::ostringstream os;
-      os << where << ": " << k << " columns requested, this group holds "
-         << (kDynamic ? "at most " : "exactly ") << MaxK;
-      throw std::invalid_argument(os.str());
-    }
+    if (k < 0 || k > MaxK || (!kDynamic && k != K)) throwColumnCount(k, where);
+  }
+  [[noreturn]] __attribute__((noinline, cold)) static void throwColumnCount(Eigen::Index k,
+                                                                            const char* where) {
+    std::ostringstream os;
+    os << where << ": " << k << " columns requested, this group holds "
+       << (kDynamic ? "at most " : "exactly ") << MaxK;
+    throw std::invalid_argument(os.str());
   }
   static Eigen::Index columnsOfTangent(const Tangent& xi, const char* where) {
     const Eigen::Index n = xi.size();

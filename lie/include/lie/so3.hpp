@@ -39,16 +39,32 @@ Matrix3<typename Derived::Scalar> hat3(const Eigen::MatrixBase<Derived>& v) {
   return m;
 }
 
+// d I + alpha [phi] + beta [phi]^2, built entrywise from [phi]^2 = phi phi^T - theta^2 I: every
+// closed form in lie/ is of this shape, and no 3x3 product is needed to evaluate one.
+template <typename Scalar>
+Matrix3<Scalar> skewSeries(const Vector3<Scalar>& phi, Scalar theta2, Scalar d, Scalar alpha,
+                           Scalar beta) {
+  const Scalar diag = d - beta * theta2;
+  const Scalar xy = beta * phi(0) * phi(1), xz = beta * phi(0) * phi(2),
+               yz = beta * phi(1) * phi(2);
+  const Vector3<Scalar> a = alpha * phi;
+  Matrix3<Scalar> m;
+  m << diag + beta * phi(0) * phi(0), xy - a(2), xz + a(1),  //
+      xy + a(2), diag + beta * phi(1) * phi(1), yz - a(0),   //
+      xz - a(1), yz + a(0), diag + beta * phi(2) * phi(2);
+  return m;
+}
+
 // The SO(3) Gamma functions of the InEKF literature, Gamma_m(phi) = sum_n [phi]^n / (n+m)!:
 // Gamma_0 = Exp, Gamma_1 = Jl (the integral of Exp), Gamma_2 (the integral of Gamma_1).
-template <int m, typename Scalar>
-Matrix3<Scalar> Gamma(const Vector3<Scalar>& phi) {
+template <int m, typename Derived>
+Matrix3<typename Derived::Scalar> Gamma(const Eigen::MatrixBase<Derived>& phi_in) {
   static_assert(m >= 0 && m <= 2, "Gamma_m is provided for m = 0, 1, 2");
+  using Scalar = typename Derived::Scalar;
+  const Vector3<Scalar> phi = phi_in;
   const AngleSeries<Scalar> c(phi.squaredNorm());
-  const Matrix3<Scalar> P = hat3(phi);
-  const Scalar diag = Scalar(1) / Scalar(detail::factorial(m));
-  return diag * Matrix3<Scalar>::Identity() + c.template G<m + 1>() * P +
-         c.template G<m + 2>() * P * P;
+  return skewSeries(phi, c.theta2(), Scalar(1) / Scalar(detail::factorial(m)),
+                    c.template G<m + 1>(), c.template G<m + 2>());
 }
 
 template <typename Scalar_>
@@ -72,8 +88,8 @@ class SO3 {
     const Scalar orth = (R.transpose() * R - Matrix::Identity()).cwiseAbs().maxCoeff();
     if (!(orth <= tol)) {
       std::ostringstream os;
-      os << "SO3::fromMatrix: matrix is not orthonormal (max |R^T R - I| = " << orth
-         << " > tol " << tol << ")";
+      os << "SO3::fromMatrix: matrix is not orthonormal (max |R^T R - I| = " << orth << " > tol "
+         << tol << ")";
       throw NotInGroup(os.str());
     }
     if (R.determinant() < Scalar(0)) {
@@ -131,9 +147,7 @@ class SO3 {
   static Jacobian Jl(const Tangent& phi) { return Jr(Tangent(-phi)); }
   static Jacobian JrInv(const Tangent& phi) { return JlInv(Tangent(-phi)); }
   static Jacobian JlInv(const Tangent& phi) {
-    const AngleSeries<Scalar> c(phi.squaredNorm());
-    const Matrix P = hat3(phi);
-    return Matrix::Identity() - Scalar(0.5) * P + c.jlInvD() * P * P;
+    return JlInv(phi, AngleSeries<Scalar>(phi.squaredNorm()));
   }
 
   // Plus / minus: right (body-frame) and left (world-frame) versions.
@@ -167,31 +181,36 @@ class SO3 {
 
   // Building blocks shared with SE_K(3), which reuses one AngleSeries per operation ------
   static Matrix expMatrix(const Tangent& phi, const AngleSeries<Scalar>& c) {
-    const Matrix P = hat3(phi);
-    return Matrix::Identity() + c.template G<1>() * P + c.template G<2>() * P * P;
+    return skewSeries(phi, c.theta2(), Scalar(1), c.template G<1>(), c.template G<2>());
   }
   static Jacobian Jr(const Tangent& phi, const AngleSeries<Scalar>& c) {
-    const Matrix P = hat3(phi);
-    return Matrix::Identity() - c.template G<2>() * P + c.template G<3>() * P * P;
+    return skewSeries(phi, c.theta2(), Scalar(1), -c.template G<2>(), c.template G<3>());
+  }
+  static Jacobian JlInv(const Tangent& phi, const AngleSeries<Scalar>& c) {
+    return skewSeries(phi, c.theta2(), Scalar(1), Scalar(-0.5), c.jlInvD());
   }
 
   // Rotation vector of a unit quaternion: theta = 2 atan2(|v|, w), taken with w >= 0 so that
   // theta lies in [0, pi]. For small |v|, theta/|v| = (2/w)(1 - |v|^2/(3w^2) + ...).
-  static Tangent logOfQuaternion(const Eigen::Quaternion<Scalar>& q) {
+  // Optionally hands back sin(theta/2) = |v| and cos(theta/2) = w, which AngleSeries reuses.
+  static Tangent logOfQuaternion(const Eigen::Quaternion<Scalar>& q, Scalar* sinHalf = nullptr,
+                                 Scalar* cosHalf = nullptr) {
     using std::atan2;
     using std::sqrt;
     const Scalar sign = q.w() < Scalar(0) ? Scalar(-1) : Scalar(1);
     const Scalar w = sign * q.w();
     const Tangent v = sign * q.vec();
     const Scalar n2 = v.squaredNorm();
+    const Scalar n = sqrt(n2);
     Scalar scale;
     if (n2 < Scalar(1e-12)) {
       const Scalar r2 = n2 / (w * w);
       scale = Scalar(2) / w * (Scalar(1) - r2 / Scalar(3) + r2 * r2 / Scalar(5));
     } else {
-      const Scalar n = sqrt(n2);
       scale = Scalar(2) * atan2(n, w) / n;
     }
+    if (sinHalf) *sinHalf = n;
+    if (cosHalf) *cosHalf = w;
     return scale * v;
   }
 

@@ -22,21 +22,37 @@
 // checks both sides of every switch against a long-double reference.
 #pragma once
 
+#include <array>
 #include <cmath>
 
 namespace lie {
 
 namespace detail {
 
-constexpr double factorial(int n) { return n <= 1 ? 1.0 : n * factorial(n - 1); }
+constexpr long double factorial(int n) {
+  return n <= 1 ? 1.0L : n * factorial(n - 1);
+}
 
-// sum_{k=0}^{N-1} (-x)^k / (2k+m)!, evaluated by Horner's rule from the smallest term up.
-template <int m, int N, typename Scalar>
-Scalar gSeries(Scalar x) {
+// Taylor coefficients c_k = 1/(2k+m)! of G_m, and d_k = (2k+2)/(2k+5)! of G_4 - 3 G_5, as
+// compile-time tables (long double, so that a long-double AngleSeries keeps its precision).
+template <int m, int N>
+constexpr std::array<long double, N> gCoefficients() {
+  std::array<long double, N> c{};
+  for (int k = 0; k < N; ++k) c[k] = 1.0L / factorial(2 * k + m);
+  return c;
+}
+template <int N>
+constexpr std::array<long double, N> g45Coefficients() {
+  std::array<long double, N> c{};
+  for (int k = 0; k < N; ++k) c[k] = (2.0L * k + 2.0L) / factorial(2 * k + 5);
+  return c;
+}
+
+// sum_{k=0}^{N-1} (-x)^k c_k by Horner's rule, from the smallest term up.
+template <typename Scalar, std::size_t N>
+Scalar alternatingSeries(Scalar x, const std::array<long double, N>& c) {
   Scalar sum(0);
-  for (int k = N - 1; k >= 0; --k) {
-    sum = Scalar(1) / Scalar(factorial(2 * k + m)) - x * sum;
-  }
+  for (int k = static_cast<int>(N) - 1; k >= 0; --k) sum = Scalar(c[k]) - x * sum;
   return sum;
 }
 
@@ -51,14 +67,20 @@ class AngleSeries {
     using std::cos;
     using std::sin;
     using std::sqrt;
-    if (x_ < kTinyX) {  // theta < 1e-5: two terms of each series are exact to rounding
-      g1_ = Scalar(1) - x_ / Scalar(6);
-      g2_ = Scalar(0.5) - x_ / Scalar(24);
+    if (x_ < kTinyX) {
+      setTiny();
     } else {
       const Scalar theta = sqrt(x_);
-      const Scalar s = sin(theta / 2), c = cos(theta / 2);
-      g1_ = Scalar(2) * s * c / theta;  // sin(theta)/theta
-      g2_ = Scalar(2) * s * s / x_;     // (1 - cos theta)/theta^2
+      setFromHalfAngle(theta, sin(theta / 2), cos(theta / 2));
+    }
+  }
+  // When sin and cos of the half angle are already known (a unit quaternion holds them).
+  AngleSeries(Scalar theta2, Scalar sinHalf, Scalar cosHalf) : x_(theta2) {
+    using std::sqrt;
+    if (x_ < kTinyX) {
+      setTiny();
+    } else {
+      setFromHalfAngle(sqrt(x_), sinHalf, cosHalf);
     }
   }
 
@@ -76,7 +98,8 @@ class AngleSeries {
       // Switch point theta_m^2 and number of Taylor terms for G_m (see the file comment).
       constexpr double switchX = m == 3 ? 1.0 : m == 4 ? 2.25 : 6.25;
       constexpr int terms = m == 3 ? 8 : m == 4 ? 9 : 11;
-      if (x_ < switchX) return detail::gSeries<m, terms>(x_);
+      static constexpr auto coefficients = detail::gCoefficients<m, terms>();
+      if (x_ < switchX) return detail::alternatingSeries(x_, coefficients);
       return (Scalar(1) / Scalar(detail::factorial(m - 2)) - G<m - 2>()) / x_;
     }
   }
@@ -88,11 +111,28 @@ class AngleSeries {
     return Scalar(m) * G<m + 2>() - G<m + 1>();
   }
 
+  // G_4 - 3 G_5 = 2 sum_k (-x)^k (k+1)/(2k+5)!, the third coefficient of the SE(3) block Q. The
+  // difference of the two closed forms loses a few ulp below theta = 2.5, so it has its own series.
+  Scalar G45() const {
+    static constexpr auto coefficients = detail::g45Coefficients<11>();
+    if (x_ < 6.25) return detail::alternatingSeries(x_, coefficients);
+    return G<4>() - Scalar(3) * G<5>();
+  }
+
   // Coefficient D of the inverse left Jacobian  Jl^{-1} = I - [phi]/2 + D [phi]^2,
   // D = (1 - (theta/2) cot(theta/2)) / theta^2 = (G_3 - 2 G_4) / (2 G_2): no cancellation left.
   Scalar jlInvD() const { return (G<3>() - Scalar(2) * G<4>()) / (Scalar(2) * g2_); }
 
  private:
+  void setTiny() {  // theta < 1e-5: two terms of each series are exact to rounding
+    g1_ = Scalar(1) - x_ / Scalar(6);
+    g2_ = Scalar(0.5) - x_ / Scalar(24);
+  }
+  void setFromHalfAngle(Scalar theta, Scalar s, Scalar c) {
+    g1_ = Scalar(2) * s * c / theta;  // sin(theta)/theta
+    g2_ = Scalar(2) * s * s / x_;     // (1 - cos theta)/theta^2
+  }
+
   static constexpr double kTinyX = 1e-10;
   Scalar x_;
   Scalar g1_;
