@@ -19,9 +19,6 @@ struct Jet {
 inline Jet operator+(const Jet& a, const Jet& b) {
   return {a.f + b.f, a.d + b.d, a.dd + b.dd};
 }
-inline Jet operator-(const Jet& a, const Jet& b) {
-  return {a.f - b.f, a.d - b.d, a.dd - b.dd};
-}
 inline Jet operator*(double c, const Jet& a) {
   return {c * a.f, c * a.d, c * a.dd};
 }
@@ -33,10 +30,6 @@ inline Jet operator*(const Jet& a, const Jet& b) {
 inline Jet sin(const Jet& a) {
   const double s = std::sin(a.f), c = std::cos(a.f);
   return {s, c * a.d, c * a.dd - s * a.d * a.d};
-}
-inline Jet cos(const Jet& a) {
-  const double s = std::sin(a.f), c = std::cos(a.f);
-  return {c, -s * a.d, -s * a.dd - c * a.d * a.d};
 }
 
 // Quintic Hermite segment on [0, T], evaluated at time u: starts at (p0, v0, a0) and ends at

@@ -21,8 +21,9 @@ void checkOptions(const SimOptions& o) {
   if (!positive(o.duration)) throw std::invalid_argument("simulate: duration must be > 0");
   if (!positive(o.rate)) throw std::invalid_argument("simulate: rate must be > 0");
   if (!positive(o.mass)) throw std::invalid_argument("simulate: mass must be > 0");
-  if (!(o.encoder_angle_sigma >= 0.0) || !(o.encoder_rate_sigma >= 0.0)) {
-    throw std::invalid_argument("simulate: encoder noise must be >= 0");
+  if (!(o.encoder_angle_sigma >= 0.0) || !(o.encoder_rate_sigma >= 0.0) ||
+      !(o.foot_position_sigma >= 0.0)) {
+    throw std::invalid_argument("simulate: noise standard deviations must be >= 0");
   }
   if (!(o.faults.dropout_probability >= 0.0 && o.faults.dropout_probability < 1.0)) {
     throw std::invalid_argument("simulate: dropout probability must be in [0, 1)");
@@ -78,6 +79,7 @@ SimResult simulate(const SimOptions& options, const model::QuadrupedKinematics& 
   log.layout.force = options.force;
   log.layout.contact = options.contact;
   log.layout.ground_truth = options.ground_truth;
+  log.layout.foot_columns = options.foot_columns;
   std::ostringstream about;
   about.precision(17);
   about << "legkit sim: scenario " << options.scenario.name << ", duration " << options.duration
@@ -123,6 +125,20 @@ SimResult simulate(const SimOptions& options, const model::QuadrupedKinematics& 
       const double t_flag = t - options.faults.contact_offset;
       row.contact[leg] =
           options.faults.contact_offset == 0.0 ? contact[leg] : motion.foot(leg, t_flag).contact;
+    }
+    if (options.foot_columns != io::FootCovariance::kNone) {
+      for (int leg = 0; leg < model::kNumLegs; ++leg) {
+        const Eigen::Vector3d q = row.q.segment<3>(io::kJointsPerLeg * leg);
+        const Eigen::Matrix3d J = kinematics.footJacobian(leg, q);
+        io::FootKinematics& foot = row.feet[leg];
+        foot.p_body = kinematics.footPosition(leg, q);
+        foot.cov =
+            options.encoder_angle_sigma * options.encoder_angle_sigma * J * J.transpose() +
+            options.foot_position_sigma * options.foot_position_sigma * Eigen::Matrix3d::Identity();
+        if (options.foot_columns == io::FootCovariance::kDiagonal) {
+          foot.cov = Eigen::Matrix3d(foot.cov.diagonal().asDiagonal());
+        }
+      }
     }
     row.gt_p = base.p;
     row.gt_q = Eigen::Quaterniond(base.R).normalized();

@@ -12,6 +12,9 @@
 //             force is the vertical part of its share (zero in swing and flight).
 //   torque    tau = -J(q)^T R^T f_i with f_i that same share: the static torque that would hold
 //             it (leg inertia ignored).
+//   feet      (optional, the robot-agnostic columns) p = FK(q_measured) per foot, covariance
+//             sigma_q^2 J J^T + foot_position_sigma^2 I (encoder noise through the Jacobian,
+//             plus kinematic-model error); only its diagonal with FootCovariance::kDiagonal.
 // Three independent random streams (IMU, encoders, dropouts) are drawn from the seed, so turning
 // one noise source off does not change the others.
 #pragma once
@@ -43,6 +46,8 @@ struct SimOptions {
   bool force = true;
   bool contact = true;
   bool ground_truth = true;
+  io::FootCovariance foot_columns = io::FootCovariance::kNone;  // body-frame foot columns
+  double foot_position_sigma = 1e-3;  // kinematic-model error in those columns' covariance [m]
 
   Faults faults;
 

@@ -4,7 +4,9 @@
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 
+#include "io/foot_measurement.hpp"
 #include "io/log_reader.hpp"
 #include "io/log_writer.hpp"
 #include "sim/simulator.hpp"
@@ -52,4 +54,27 @@ TEST_CASE("Every scenario's log passes the loader", "[57.3][sim][log]") {
     CHECK(log.rows.size() == 2500);
     CHECK_FALSE(log.layout.ground_truth);
   }
+}
+
+TEST_CASE("The simulator can also write the robot-agnostic foot columns", "[57.3][sim][log]") {
+  sim::SimOptions options;
+  options.duration = 1.0;
+  options.foot_columns = io::FootCovariance::kFull;
+  const sim::SimResult run = sim::simulate(options);
+  std::stringstream file;
+  io::writeLog(file, run.log);
+  const io::Log log = io::readLog(file, "feet");
+  REQUIRE(log.layout.foot_columns == io::FootCovariance::kFull);
+  REQUIRE(log.layout.num_feet == 4);
+  const model::QuadrupedKinematics kin;
+  const io::LogRow& row = log.rows[500];
+  for (int leg = 0; leg < model::kNumLegs; ++leg) {
+    const ContactMeasurement m = io::footMeasurement(log.layout, row, leg);
+    CHECK(m.foot == leg);
+    CHECK(m.p_body == kin.footPosition(leg, row.q.segment<3>(3 * leg)));
+    CHECK(m.cov == m.cov.transpose());
+    CHECK(m.cov.trace() > 3e-6);  // at least the 1 mm kinematic-model error per axis
+  }
+  CHECK_THROWS_WITH(io::footMeasurement(log.layout, row, 4),
+                    Catch::Matchers::Contains("foot 4 is not in the log"));
 }

@@ -49,6 +49,11 @@ SimCommand::SimCommand(CLI::App& app)
   c.add_option("--out", out_, "Log file to write")->capture_default_str();
   c.add_flag("--noiseless", noiseless_, "No IMU or encoder noise, zero biases");
   c.add_flag("--no-ground-truth", no_ground_truth_, "Leave out the gt_ columns");
+  c.add_option(
+       "--foot-columns", foot_columns_,
+       "Also write body-frame foot columns: none, diagonal (variances) or full (covariance)")
+      ->check(CLI::IsMember({"none", "diagonal", "full"}))
+      ->capture_default_str();
   c.add_option("--slip-foot", slip_foot_, "Fault: this foot (FL, FR, RL, RR) slips in stance");
   c.add_option("--slip-start", slip_start_, "Slip start [s]")->capture_default_str();
   c.add_option("--slip-duration", slip_duration_, "Slip duration [s]")->capture_default_str();
@@ -73,6 +78,9 @@ int SimCommand::run(std::ostream& out) const {
   options.seed = seed_;
   if (noiseless_) options.noiseless();
   options.ground_truth = !no_ground_truth_;
+  options.foot_columns = foot_columns_ == "full"       ? io::FootCovariance::kFull
+                         : foot_columns_ == "diagonal" ? io::FootCovariance::kDiagonal
+                                                       : io::FootCovariance::kNone;
   if (!slip_foot_.empty()) {
     options.faults.slip.leg = legByName(slip_foot_);
     options.faults.slip.start = slip_start_;

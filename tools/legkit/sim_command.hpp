@@ -30,6 +30,7 @@ class SimCommand {
   std::string out_ = "log.csv";
   bool noiseless_ = false;
   bool no_ground_truth_ = false;
+  std::string foot_columns_ = "none";
   std::string slip_foot_;
   double slip_start_ = 5.0;
   double slip_duration_ = 0.5;
