@@ -1,13 +1,13 @@
 #!/usr/bin/python3
 """Figure for chapters/57.3-leg-kinematics.md: leg odometry on a trot turning in place.
 
-Reads the CSV written by legkit-57.3-figure and writes 57.3-leg-odometry.png into OUT:
+Reads the CSV written by legkit-leg-odometry-figures and writes 57.3-leg-odometry.png into OUT:
   top     base velocity (x, y) from the stance feet with Go2 sensor noise, raw and averaged
           over 50 ms, against the truth (zero: the robot turns in place)
   bottom  noiseless error |v - v_true| with the correct formula and with the classic
           frame mix-up (body-frame J qdot used as a world-frame velocity)
 
-    build-model/legkit-57.3-figure /tmp/57.3.csv
+    build/legkit-leg-odometry-figures /tmp/57.3.csv
     /usr/bin/python3 tools/plots/57.3-leg-odometry.py /tmp/57.3.csv chapters/figures
 
 Run it with Debian's /usr/bin/python3 (python3-matplotlib).

@@ -1,7 +1,7 @@
 // Data for the figure of chapters/57.3-leg-kinematics.md: leg-odometry velocity against the truth
 // on the simulator's "turn" scenario (a trot turning in place at 0.5 rad/s).
 //
-//   build-dir/legkit-57.3-figure OUT.csv
+//   build/legkit-leg-odometry-figures OUT.csv
 //   /usr/bin/python3 tools/plots/57.3-leg-odometry.py OUT.csv chapters/figures
 //
 // Columns: t, gt_vx, gt_vy, lo_vx, lo_vy (Go2 sensor noise, mean over stance feet),
@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
     }
     return out ? 0 : 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "legkit-57.3-figure: %s\n", e.what());
+    std::fprintf(stderr, "legkit-leg-odometry-figures: %s\n", e.what());
     return 1;
   }
 }
