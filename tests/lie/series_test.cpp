@@ -1,7 +1,7 @@
 // lie::AngleSeries against long-double references: every coefficient G_1..G_6, H_1..H_4 and the
 // inverse-Jacobian coefficient D, on a dense logarithmic grid of theta from 1e-12 to pi and on
-// both sides of the two switch points (theta^2 = 1e-10: Taylor / half-angle forms; theta^2 = 6.25:
-// series / closed-form recurrence).
+// both sides of every switch point (theta^2 = 1e-10: Taylor / half-angle forms of G_1, G_2;
+// theta^2 = 1, 2.25, 6.25: Taylor series / closed-form recurrence of G_3, G_4, G_5 and G_6).
 //
 // The references are computed in long double (64-bit mantissa, eps = 1.1e-19) from formulas
 // that do not cancel at the angle where they are used:
@@ -111,6 +111,9 @@ std::vector<Coefficient> coefficients() {
   return c;
 }
 
+// The theta^2 at which AngleSeries changes formula (so3_series.hpp).
+constexpr double kSwitchPoints[] = {1e-10, 1.0, 2.25, 6.25};
+
 // theta^2 values: a log grid of theta in [1e-12, pi], the switch points with neighbours a few
 // ulp and a few relative 1e-9..1e-3 away on both sides, 0, and pi^2.
 std::vector<double> gridOfX() {
@@ -120,7 +123,7 @@ std::vector<double> gridOfX() {
     const double theta = std::pow(10.0, -12.0 + (std::log10(M_PI) + 12.0) * i / n);
     xs.push_back(theta * theta);
   }
-  for (const double sw : {1e-10, 6.25}) {
+  for (const double sw : kSwitchPoints) {
     double up = sw, down = sw;
     xs.push_back(sw);
     for (int k = 0; k < 4; ++k) {
@@ -222,10 +225,10 @@ TEST_CASE("AngleSeries against long-double references on a dense grid", "[lie][s
   }
 }
 
-// The two switch points of AngleSeries must not leave a visible step: the values just below and
+// The switch points of AngleSeries must not leave a visible step: the values just below and
 // just above agree as closely as the function's own slope allows.
 TEST_CASE("AngleSeries is continuous across its switch points", "[lie][series]") {
-  for (const double sw : {1e-10, 6.25}) {
+  for (const double sw : kSwitchPoints) {
     const double below = std::nextafter(sw, 0.0), above = sw;
     for (const Coefficient& c : coefficients()) {
       CAPTURE(c.name, sw);
