@@ -239,3 +239,21 @@ TEMPLATE_TEST_CASE("imu::propagate solves the ODE", "[lie][imu]", lie::SE23d, SE
     for (Eigen::Index i = 2; i < X.numCols(); ++i) CHECK(Y.col(i) == X.col(i));  // contacts stay
   }
 }
+
+TEST_CASE("the IMU dynamics refuse a group without velocity and position columns", "[lie]") {
+  using SEKd6 = lie::SEKd<double, 6>;
+  const SEKd6 one(1);  // a single column: SE(3), no velocity
+  const Eigen::Vector3d w(0.1, 0.2, 0.3), a(0.0, 0.0, 9.81);
+  CHECK_THROWS_WITH(lie::imu::propagate(one, w, a, kGravity, 1e-3),
+                    Catch::Contains("needs columns v and p"));
+  CHECK_THROWS_WITH(lie::imu::phi<SEKd6>(1, kGravity, 1e-3), Catch::Contains("got 1 column"));
+  CHECK_THROWS_AS(lie::imu::phiWithBias(one, w, a, kGravity, 1e-3), std::invalid_argument);
+  CHECK_NOTHROW(lie::imu::phiWithBias(SEKd6(2), w, a, kGravity, 1e-3));
+}
+
+TEST_CASE("act refuses a column that does not exist", "[lie]") {
+  const lie::SEKd<double, 6> X(2);
+  CHECK_THROWS_AS(X.act(Eigen::Vector3d::Ones(), 2), std::out_of_range);
+  CHECK_THROWS_AS(lie::SEKd<double, 6>(0).act(Eigen::Vector3d::Ones()), std::out_of_range);
+  CHECK_NOTHROW(X.act(Eigen::Vector3d::Ones(), 1));
+}

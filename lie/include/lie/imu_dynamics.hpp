@@ -25,11 +25,24 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <stdexcept>
+#include <string>
 
 #include "lie/sek3.hpp"
 #include "lie/so3.hpp"
 
 namespace lie::imu {
+
+namespace detail {
+// The IMU dynamics need the velocity and position columns: at least SE_2(3).
+inline void requireVelocityAndPosition(Eigen::Index numCols, const char* where) {
+  if (numCols < 2) {
+    throw std::invalid_argument(std::string(where) +
+                                ": needs columns v and p (SE_2(3) or larger), got " +
+                                std::to_string(numCols) + " column(s)");
+  }
+}
+}  // namespace detail
 
 // d(Gamma_m(phi) a)/d(phi), m = 1 or 2:
 //   Gamma_m(phi) a = a/m! + G_{m+1} phi x a + G_{m+2} phi x (phi x a), differentiated term by
@@ -53,6 +66,7 @@ Group propagate(const Group& X, const Vector3<typename Group::Scalar>& w,
                 const Vector3<typename Group::Scalar>& a, const Vector3<typename Group::Scalar>& g,
                 typename Group::Scalar dt) {
   using Scalar = typename Group::Scalar;
+  detail::requireVelocityAndPosition(X.numCols(), "lie::imu::propagate");
   const Vector3<Scalar> phi = w * dt;
   const AngleSeries<Scalar> c(phi.squaredNorm());
   const Matrix3<Scalar> P = hat3(phi);
@@ -75,6 +89,7 @@ template <typename Group>
 typename Group::Jacobian phi(Eigen::Index numCols, const Vector3<typename Group::Scalar>& g,
                              typename Group::Scalar dt) {
   using Scalar = typename Group::Scalar;
+  detail::requireVelocityAndPosition(numCols, "lie::imu::phi");
   const Eigen::Index n = 3 + 3 * numCols;
   typename Group::Jacobian F = Group::Jacobian::Identity(n, n);
   const Matrix3<Scalar> G = hat3(g);
@@ -90,6 +105,7 @@ Eigen::Matrix<typename Group::Scalar, Group::DoF, 6, 0, Group::MaxDoF, 6> increm
     Eigen::Index numCols, const Vector3<typename Group::Scalar>& w,
     const Vector3<typename Group::Scalar>& a, typename Group::Scalar dt) {
   using Scalar = typename Group::Scalar;
+  detail::requireVelocityAndPosition(numCols, "lie::imu::incrementJacobian");
   const Vector3<Scalar> phi = w * dt;
   const AngleSeries<Scalar> c(phi.squaredNorm());
   const Matrix3<Scalar> P = hat3(phi);

@@ -150,6 +150,7 @@ class SEK3 {
   Point act(const Point& x, Eigen::Index i = 0,
             Eigen::Matrix<Scalar, 3, DoF, 0, 3, MaxDoF>* J_out_this = nullptr,
             Matrix3* J_out_x = nullptr) const {
+    if (i < 0 || i >= numCols()) throw std::out_of_range("SEK3::act: no such column");
     if (J_out_this) {
       J_out_this->setZero(3, dof());
       J_out_this->template leftCols<3>() = -R_ * hat3(x);
