@@ -16,9 +16,12 @@ Eigen::Matrix<double, 9, 1> baseError(const EstimateSample& truth, const Estimat
   return e;
 }
 
-int neesDof(const BaseCovariance& cov) { return cov.has_attitude ? 9 : 6; }
+int neesDof(const BaseCovariance& cov) {
+  return cov.has_attitude ? 9 : 6;
+}
 
-double nees(const EstimateSample& truth, const EstimateSample& estimate, const BaseCovariance& cov) {
+double nees(const EstimateSample& truth, const EstimateSample& estimate,
+            const BaseCovariance& cov) {
   const Eigen::Matrix<double, 9, 1> e = baseError(truth, estimate);
   const int first = cov.has_attitude ? 0 : 3;
   const int n = 9 - first;
@@ -84,8 +87,8 @@ double chiSquareQuantile(double p, double k) {
 ChiSquareBounds aneesBounds(int dof, int runs, double confidence) {
   if (dof <= 0 || runs <= 0 || !(confidence > 0.0 && confidence < 1.0)) {
     std::ostringstream os;
-    os << "aneesBounds: need dof > 0, runs > 0 and 0 < confidence < 1, got " << dof << ", "
-       << runs << ", " << confidence;
+    os << "aneesBounds: need dof > 0, runs > 0 and 0 < confidence < 1, got " << dof << ", " << runs
+       << ", " << confidence;
     throw std::invalid_argument(os.str());
   }
   const double k = static_cast<double>(dof) * runs;

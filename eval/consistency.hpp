@@ -5,8 +5,8 @@
 // For a consistent filter, e_k ~ N(0, P_k), so NEES_k ~ chi^2(n) with n = 9 (6 for a filter that
 // takes attitude as an input). Averaged over M independent Monte Carlo runs,
 //   ANEES_k = (1/M) sum_j NEES_k^(j),   M * ANEES_k ~ chi^2(M n),
-// so the two-sided 95 % acceptance interval of ANEES_k is [chi2inv(0.025, Mn), chi2inv(0.975, Mn)] / M
-// (Bar-Shalom, Li and Kirubarajan, "Estimation with applications to tracking and navigation").
+// so the two-sided 95 % acceptance interval of ANEES_k is [chi2inv(0.025, Mn), chi2inv(0.975, Mn)]
+// / M (Bar-Shalom, Li and Kirubarajan, "Estimation with applications to tracking and navigation").
 #pragma once
 
 #include "estimation/estimator.hpp"

@@ -1,5 +1,7 @@
 #include "eval/metrics.hpp"
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -17,7 +19,60 @@ double yawError(const Eigen::Matrix3d& R_hat, const Eigen::Matrix3d& R) {
   return std::remainder(d, 2.0 * M_PI);  // wrap to [-pi, pi]
 }
 
-Metrics compare(const io::Log& truth, const Trajectory& estimate) {
+namespace {
+
+struct Pose {
+  Eigen::Matrix3d R;
+  Eigen::Vector3d p;
+  Pose operator*(const Pose& o) const { return {R * o.R, R * o.p + p}; }
+  Pose inverse() const { return {R.transpose(), -(R.transpose() * p)}; }
+};
+
+Pose truePose(const io::LogRow& row) {
+  return {row.gt_q.toRotationMatrix(), row.gt_p};
+}
+Pose estimatedPose(const EstimateSample& e) {
+  return {e.q.toRotationMatrix(), e.p};
+}
+
+double ateRmse(const io::Log& truth, const Trajectory& estimate) {
+  const Pose T_a = truePose(truth.rows.front()) * estimatedPose(estimate.front()).inverse();
+  double s = 0.0;
+  for (std::size_t k = 0; k < estimate.size(); ++k) {
+    s += (truth.rows[k].gt_p - (T_a * estimatedPose(estimate[k])).p).squaredNorm();
+  }
+  return std::sqrt(s / static_cast<double>(estimate.size()));
+}
+
+RelativeError rpe(const io::Log& truth, const Trajectory& estimate,
+                  const std::vector<double>& travelled, double d) {
+  RelativeError r;
+  r.distance = d;
+  double st = 0.0, sr = 0.0;
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < estimate.size(); ++i) {
+    j = std::max(j, i);
+    while (j < estimate.size() && travelled[j] - travelled[i] < d) ++j;
+    if (j == estimate.size()) break;
+    const Pose motion = truePose(truth.rows[i]).inverse() * truePose(truth.rows[j]);
+    const Pose motion_hat = estimatedPose(estimate[i]).inverse() * estimatedPose(estimate[j]);
+    const Pose E = motion.inverse() * motion_hat;
+    st += E.p.squaredNorm();
+    sr += std::pow(Eigen::AngleAxisd(E.R).angle(), 2);
+    ++r.pairs;
+  }
+  if (r.pairs > 0) {
+    r.translation_rmse = std::sqrt(st / r.pairs);
+    r.translation_percent = 100.0 * r.translation_rmse / d;
+    r.rotation_rmse_deg = std::sqrt(sr / r.pairs) * 180.0 / M_PI;
+  }
+  return r;
+}
+
+}  // namespace
+
+Metrics compare(const io::Log& truth, const Trajectory& estimate,
+                const std::vector<double>& rpe_distances) {
   if (!truth.layout.ground_truth) {
     throw std::invalid_argument("eval::compare: the log has no ground-truth columns (gt_*)");
   }
@@ -54,6 +109,12 @@ Metrics compare(const io::Log& truth, const Trajectory& estimate) {
   m.yaw_rmse_deg = std::sqrt(sy / n) * deg;
   m.final_position_error = (estimate.back().p - truth.rows.back().gt_p).norm();
   m.drift_percent = m.distance > 0.0 ? 100.0 * m.final_position_error / m.distance : 0.0;
+  m.ate_rmse = ateRmse(truth, estimate);
+  std::vector<double> travelled(estimate.size(), 0.0);  // distance along the truth to row k
+  for (std::size_t k = 1; k < estimate.size(); ++k) {
+    travelled[k] = travelled[k - 1] + (truth.rows[k].gt_p - truth.rows[k - 1].gt_p).norm();
+  }
+  for (const double d : rpe_distances) m.rpe.push_back(rpe(truth, estimate, travelled, d));
   return m;
 }
 

@@ -1,7 +1,11 @@
 #include "eval/runner.hpp"
 
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
+
+#include "eval/consistency.hpp"
 
 namespace legkit::eval {
 
@@ -19,9 +23,25 @@ RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& 
     estimator.step(in);
     busy += std::chrono::steady_clock::now() - t0;
     result.trajectory.push_back(estimator.estimate());
+    const std::optional<BaseCovariance> cov = estimator.covariance();
+    if (!cov) continue;
+    result.sigma.push_back(cov->P.diagonal().cwiseSqrt());
+    result.nees_dof = neesDof(*cov);
+    if (log.layout.ground_truth) {
+      const io::LogRow& row = log.rows[k];
+      const EstimateSample truth{row.t, row.gt_q, row.gt_v, row.gt_p};
+      result.nees.push_back(nees(truth, result.trajectory.back(), *cov));
+    }
   }
   result.us_per_step = log.rows.empty() ? 0.0 : busy.count() / log.rows.size();
   return result;
+}
+
+double normalisedAnees(const RunResult& run) {
+  if (run.nees.empty() || run.nees_dof == 0) return std::numeric_limits<double>::quiet_NaN();
+  double sum = 0.0;
+  for (const double e : run.nees) sum += e;
+  return sum / static_cast<double>(run.nees.size()) / run.nees_dof;
 }
 
 EstimateSample initialState(const io::Log& log) {

@@ -82,3 +82,33 @@ TEST_CASE("compare rejects logs without truth and misaligned estimates", "[eval]
   log.layout.ground_truth = false;
   CHECK_THROWS_WITH(legkit::eval::compare(log, copyOf(log)), Catch::Contains("ground-truth"));
 }
+
+TEST_CASE("ATE removes the offset of the first pose; RPE sees only relative motion", "[eval]") {
+  const auto log = straightLine();
+  // The whole estimate shifted by 2 m and turned 90 degrees about z: rigidly wrong from the
+  // start, so after aligning the first pose ATE is zero, and every relative motion agrees.
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+  Trajectory est;
+  for (const auto& r : log.rows) {
+    est.push_back({r.t, turn * r.gt_q, turn * r.gt_v, turn * r.gt_p + Eigen::Vector3d(2, 0, 0)});
+  }
+  const auto m = legkit::eval::compare(log, est, {0.5});
+  CHECK(m.position_rmse > 1.0);
+  CHECK(m.ate_rmse == Approx(0.0).margin(1e-12));
+  REQUIRE(m.rpe.size() == 1);
+  CHECK(m.rpe[0].pairs == 5);  // i = 0..4 reach 0.5 m further within the 0.9 m run
+  CHECK(m.rpe[0].translation_rmse == Approx(0.0).margin(1e-12));
+  CHECK(m.rpe[0].rotation_rmse_deg == Approx(0.0).margin(1e-9));
+}
+
+TEST_CASE("RPE of an estimate that moves 10 % too far is 10 % of the distance", "[eval]") {
+  const auto log = straightLine();
+  Trajectory est = copyOf(log);
+  for (auto& e : est) e.p.x() *= 1.1;
+  const auto m = legkit::eval::compare(log, est, {0.5, 5.0});
+  // Pairs 0.5 m apart (rows i, i+5) are estimated 0.55 m apart.
+  CHECK(m.rpe[0].translation_rmse == Approx(0.05).epsilon(1e-9));
+  CHECK(m.rpe[0].translation_percent == Approx(10.0).epsilon(1e-9));
+  CHECK(m.rpe[1].pairs == 0);  // the run is shorter than 5 m
+  CHECK(m.ate_rmse > 0.0);
+}

@@ -1,0 +1,119 @@
+#include "eval/monte_carlo.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include "estimation/log_frontend.hpp"
+#include "eval/runner.hpp"
+
+namespace legkit::eval {
+
+namespace {
+
+// "[#########           ] 9/20 runs" redrawn in place on a terminal.
+void drawProgress(int done, int total) {
+  constexpr int width = 30;
+  const int filled = done * width / total;
+  std::fprintf(stderr, "\r[%s%s] %d/%d runs", std::string(filled, '#').c_str(),
+               std::string(width - filled, ' ').c_str(), done, total);
+  if (done == total) std::fprintf(stderr, "\n");
+  std::fflush(stderr);
+}
+
+}  // namespace
+
+std::vector<MonteCarloEstimate> monteCarlo(const MonteCarloOptions& options,
+                                           const std::vector<NamedEstimator>& estimators) {
+  if (options.runs < 1) throw std::invalid_argument("monteCarlo: runs must be at least 1");
+  const int M = options.runs;
+  const std::size_t E = estimators.size();
+  // results[j][e]: run j of estimator e. Each run writes only its own slot.
+  std::vector<std::vector<RunResult>> results(M, std::vector<RunResult>(E));
+  std::vector<std::vector<Metrics>> metrics(M, std::vector<Metrics>(E));
+  std::vector<double> times;
+
+  std::atomic<int> next{0}, done{0};
+  std::mutex mutex;  // guards first_error, times and the progress bar
+  std::exception_ptr first_error;
+  const bool progress = options.progress && isatty(fileno(stderr));
+  auto worker = [&] {
+    for (int j = next++; j < M; j = next++) {
+      try {
+        sim::SimOptions sim = options.sim;
+        sim.seed = options.first_seed + static_cast<unsigned>(j);
+        const io::Log log = sim::simulate(sim).log;
+        const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
+        const EstimateSample x0 =
+            options.initial_state ? options.initial_state(log, j) : initialState(log);
+        for (std::size_t e = 0; e < E; ++e) {
+          const std::unique_ptr<Estimator> estimator = estimators[e].make();
+          RunResult run = runOnLog(*estimator, log, frontend, x0);
+          metrics[j][e] = compare(log, run.trajectory);
+          run.trajectory.clear();  // the metrics hold what is needed; keep memory bounded
+          run.sigma.clear();
+          results[j][e] = std::move(run);
+        }
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (times.empty()) {
+          for (const io::LogRow& row : log.rows) times.push_back(row.t);
+        }
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (!first_error) first_error = std::current_exception();
+      }
+      const int finished = ++done;
+      if (progress) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        drawProgress(finished, M);
+      }
+    }
+  };
+  const int threads = std::min(
+      M, options.threads > 0 ? options.threads
+                             : std::max(1, static_cast<int>(std::thread::hardware_concurrency())));
+  std::vector<std::thread> pool;
+  for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
+  for (std::thread& t : pool) t.join();
+  if (first_error) std::rethrow_exception(first_error);
+
+  std::vector<MonteCarloEstimate> out(E);
+  for (std::size_t e = 0; e < E; ++e) {
+    MonteCarloEstimate& r = out[e];
+    r.name = estimators[e].name;
+    r.t = times;
+    r.dof = results[0][e].nees_dof;
+    for (int j = 0; j < M; ++j) {
+      r.runs.push_back(metrics[j][e]);
+      r.us_per_step += results[j][e].us_per_step / M;
+    }
+    if (r.dof == 0 || results[0][e].nees.empty()) {
+      r.mean_anees = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    r.bounds = aneesBounds(r.dof, M);
+    r.anees.assign(results[0][e].nees.size(), 0.0);
+    for (int j = 0; j < M; ++j) {
+      for (std::size_t k = 0; k < r.anees.size(); ++k) r.anees[k] += results[j][e].nees[k] / M;
+    }
+    int inside = 0;
+    double sum = 0.0;
+    for (const double a : r.anees) {
+      sum += a;
+      inside += a >= r.bounds.lower && a <= r.bounds.upper;
+    }
+    r.mean_anees = sum / static_cast<double>(r.anees.size()) / r.dof;
+    r.fraction_inside = static_cast<double>(inside) / static_cast<double>(r.anees.size());
+  }
+  return out;
+}
+
+}  // namespace legkit::eval

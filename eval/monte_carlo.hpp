@@ -1,0 +1,55 @@
+// Monte Carlo evaluation: the same estimators on many simulated runs that differ only in their
+// random seed (sensor noise, bias walks), in parallel on every core.
+//
+// Per estimator it gathers the accuracy of every run and the consistency over all runs:
+//   ANEES_k = (1/M) sum_j NEES_k^(j)   at each row k, against eval::aneesBounds(dof, M)
+//   anees   = mean over k of ANEES_k / dof     (1 for a consistent filter)
+//   inside  = fraction of rows whose ANEES_k lies inside the 95 % bounds
+// Runs are independent, so the result does not depend on the number of threads.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "estimation/estimator.hpp"
+#include "eval/consistency.hpp"
+#include "eval/metrics.hpp"
+#include "sim/simulator.hpp"
+
+namespace legkit::eval {
+
+struct NamedEstimator {
+  std::string name;
+  std::function<std::unique_ptr<Estimator>()> make;  // a fresh estimator for each run
+};
+
+struct MonteCarloOptions {
+  sim::SimOptions sim;      // scenario, duration, noise; its seed is replaced per run
+  int runs = 20;            // M
+  unsigned first_seed = 1;  // run j uses seed first_seed + j
+  int threads = 0;          // 0: every hardware thread
+  bool progress = false;    // draw a progress bar on stderr (only when stderr is a terminal)
+  // The initial state of run j from its log (default: the log's ground truth at row 0). The
+  // convergence study uses it to start the filters away from the truth.
+  std::function<EstimateSample(const io::Log&, int run)> initial_state;
+};
+
+struct MonteCarloEstimate {
+  std::string name;
+  std::vector<Metrics> runs;  // accuracy of each run, in run order
+  std::vector<double> anees;  // ANEES_k at each row (empty for an estimator without covariance)
+  std::vector<double> t;      // the time of each row [s]
+  int dof = 0;                // 9, 6, or 0 without covariance
+  ChiSquareBounds bounds;     // 95 % bounds of each ANEES_k
+  double mean_anees = 0.0;    // mean over rows of ANEES_k / dof (NaN without covariance)
+  double fraction_inside = 0.0;
+  double us_per_step = 0.0;  // mean over runs
+};
+
+// Throws std::invalid_argument for runs < 1; rethrows the first error of any run.
+std::vector<MonteCarloEstimate> monteCarlo(const MonteCarloOptions& options,
+                                           const std::vector<NamedEstimator>& estimators);
+
+}  // namespace legkit::eval
