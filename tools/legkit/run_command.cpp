@@ -10,9 +10,9 @@
 #include <sstream>
 #include <vector>
 
-#include "estimation/imu/dead_reckoning_estimator.hpp"
-#include "estimation/leg_odometry/leg_odometry_estimator.hpp"
+#include "estimation/estimators.hpp"
 #include "estimation/log_frontend.hpp"
+#include "eval/consistency.hpp"
 #include "eval/metrics.hpp"
 #include "eval/runner.hpp"
 #include "io/log_reader.hpp"
@@ -29,14 +29,34 @@ struct Row {
   std::optional<eval::Metrics> metrics;  // only when the log has ground truth
 };
 
-void writeEstimates(const fs::path& path, const eval::Trajectory& trajectory) {
+// One row per log row: the estimate and, for a filter, its standard deviations in the
+// BaseCovariance convention (sigma_theta*, sigma_v*, sigma_p*) and its NEES. A comment line gives
+// the NEES degrees of freedom and its single-run 95 % bounds for the plots.
+void writeEstimates(const fs::path& path, const eval::RunResult& run) {
   std::ofstream f(path);
   if (!f) throw std::runtime_error("cannot write " + path.string());
-  f << std::setprecision(10) << "t,px,py,pz,qw,qx,qy,qz,vx,vy,vz\n";
-  for (const EstimateSample& e : trajectory) {
+  const bool filter = !run.sigma.empty();
+  const bool nees = !run.nees.empty();
+  if (nees) {
+    const eval::ChiSquareBounds b = eval::aneesBounds(run.nees_dof, 1);
+    f << "# nees_dof " << run.nees_dof << " lower " << b.lower << " upper " << b.upper << '\n';
+  }
+  f << std::setprecision(10) << "t,px,py,pz,qw,qx,qy,qz,vx,vy,vz";
+  if (filter) {
+    f << ",sigma_thx,sigma_thy,sigma_thz,sigma_vx,sigma_vy,sigma_vz,sigma_px,sigma_py,sigma_pz";
+  }
+  if (nees) f << ",nees";
+  f << '\n';
+  for (std::size_t k = 0; k < run.trajectory.size(); ++k) {
+    const EstimateSample& e = run.trajectory[k];
     f << e.t << ',' << e.p.x() << ',' << e.p.y() << ',' << e.p.z() << ',' << e.q.w() << ','
       << e.q.x() << ',' << e.q.y() << ',' << e.q.z() << ',' << e.v.x() << ',' << e.v.y() << ','
-      << e.v.z() << '\n';
+      << e.v.z();
+    if (filter) {
+      for (int i = 0; i < 9; ++i) f << ',' << run.sigma[k](i);
+    }
+    if (nees) f << ',' << run.nees[k];
+    f << '\n';
   }
 }
 
@@ -63,7 +83,8 @@ void printTable(std::ostream& out, const std::vector<Row>& rows) {
     } else {
       cells.insert(cells.end(), 5, "-");
     }
-    cells.push_back("-");  // no estimator with a covariance yet (sections 57.4-57.5)
+    const double anees = eval::normalisedAnees(r.run);
+    cells.push_back(std::isnan(anees) ? "-" : cell(anees, 2));
     cells.push_back(cell(r.run.us_per_step, 2));
     for (int i = 0; i < 8; ++i)
       out << std::setw(width[i]) << (i == 0 ? std::left : std::right) << cells[i] << ' ';
@@ -74,14 +95,23 @@ void printTable(std::ostream& out, const std::vector<Row>& rows) {
 nlohmann::json toJson(const std::vector<Row>& rows) {
   nlohmann::json all = nlohmann::json::array();
   for (const Row& r : rows) {
-    nlohmann::json j = {
-        {"estimator", r.run.name}, {"us_per_step", r.run.us_per_step}, {"anees", nullptr}};
+    nlohmann::json j = {{"estimator", r.run.name}, {"us_per_step", r.run.us_per_step}};
+    const double anees = eval::normalisedAnees(r.run);
+    j["anees"] = std::isnan(anees) ? nlohmann::json(nullptr) : nlohmann::json(anees);
     if (r.metrics) {
       j["position_rmse_m"] = r.metrics->position_rmse;
       j["velocity_rmse_mps"] = r.metrics->velocity_rmse;
       j["drift_percent"] = r.metrics->drift_percent;
       j["roll_pitch_rmse_deg"] = r.metrics->tilt_rmse_deg;
       j["yaw_rmse_deg"] = r.metrics->yaw_rmse_deg;
+      j["ate_rmse_m"] = r.metrics->ate_rmse;
+      for (const eval::RelativeError& e : r.metrics->rpe) {
+        j["rpe"].push_back({{"distance_m", e.distance},
+                            {"pairs", e.pairs},
+                            {"translation_rmse_m", e.translation_rmse},
+                            {"translation_percent", e.translation_percent},
+                            {"rotation_rmse_deg", e.rotation_rmse_deg}});
+      }
     }
     all.push_back(j);
   }
@@ -132,15 +162,12 @@ int RunCommand::run(std::ostream& out) const {
 
   const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
   const EstimateSample x0 = eval::initialState(log);
-  std::vector<std::unique_ptr<Estimator>> estimators;
-  estimators.push_back(std::make_unique<imu::DeadReckoningEstimator>());
-  estimators.push_back(std::make_unique<leg_odometry::LegOdometryEstimator>());
-
   std::vector<Row> rows;
-  for (const auto& e : estimators) {
+  for (const std::string& name : estimatorNames()) {
+    const std::unique_ptr<Estimator> e = makeEstimator(name);
     Row r{eval::runOnLog(*e, log, frontend, x0), std::nullopt};
     if (log.layout.ground_truth) r.metrics = eval::compare(log, r.run.trajectory);
-    writeEstimates(dir / ("estimate_" + r.run.name + ".csv"), r.run.trajectory);
+    writeEstimates(dir / ("estimate_" + r.run.name + ".csv"), r.run);
     rows.push_back(std::move(r));
   }
 
@@ -149,6 +176,8 @@ int RunCommand::run(std::ostream& out) const {
   } else {
     out << "legkit run: " << source << " (" << log.rows.size() << " samples)\n\n";
     printTable(out, rows);
+    out << "\nANEES: the mean over the run of NEES / its degrees of freedom (9, or 6 for the "
+           "linear KF, whose attitude is an input); about 1 for a consistent filter.\n";
     if (!log.layout.ground_truth) out << "\n(the log has no ground truth: errors not computed)\n";
     out << "\nwrote " << dir.string() << "/ (log, estimates";
   }

@@ -2,7 +2,9 @@
 
 Usage: /usr/bin/python3 tools/plots/run_plots.py <folder>
 Reads <folder>/log.csv (ground truth gt_*) and every <folder>/estimate_<name>.csv and writes
-<folder>/trajectory-top.png and <folder>/errors.png.
+<folder>/trajectory-top.png and <folder>/errors.png, and, for the filters (estimates with sigma_*
+columns), <folder>/bounds.png (position and velocity errors with their 3-sigma bounds) and
+<folder>/nees.png (NEES over time with the single-run 95 % chi-square bounds).
 """
 import csv
 import glob
@@ -14,6 +16,21 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+
+def has_column(path, column):
+    with open(path, newline="") as f:
+        header = next(line for line in f if not line.startswith("#"))
+    return column in header.strip().split(",")
+
+
+def nees_bounds(path):
+    """(dof, lower, upper) from the '# nees_dof 9 lower .. upper ..' comment, or None."""
+    with open(path) as f:
+        first = f.readline().split()
+    if len(first) == 7 and first[1] == "nees_dof":
+        return int(first[2]), float(first[4]), float(first[6])
+    return None
 
 
 def read_csv(path, columns):
@@ -73,6 +90,60 @@ def main(folder):
     ap.set_title("Errors against ground truth")
     fig.tight_layout()
     fig.savefig(os.path.join(folder, "errors.png"), dpi=120)
+
+    filters = {}
+    for name in estimates:
+        path = os.path.join(folder, "estimate_" + name + ".csv")
+        if has_column(path, "sigma_px"):
+            columns = ["t", "px", "py", "pz", "vx", "vy", "vz"] + \
+                ["sigma_" + a for a in ("vx", "vy", "vz", "px", "py", "pz")]
+            with_nees = has_column(path, "nees")
+            filters[name] = (read_csv(path, columns + (["nees"] if with_nees else [])),
+                             nees_bounds(path) if with_nees else None)
+    if not filters:
+        return
+    every = max(1, len(truth["t"]) // 3000)  # thin to about 3000 points per curve
+    fig, axes = plt.subplots(len(filters), 2, figsize=(11, 2.6 * len(filters)), squeeze=False,
+                             sharex=True)
+    colours = {"x": "tab:red", "y": "tab:green", "z": "tab:blue"}
+    for row, (name, (e, _)) in enumerate(filters.items()):
+        for col, (quantity, gt, unit) in enumerate((("p", "gt_p", "m"), ("v", "gt_v", "m/s"))):
+            ax = axes[row][col]
+            t = e["t"][::every]
+            for axis, colour in colours.items():
+                err = [e[quantity + axis][k] - truth[gt + axis][k]
+                       for k in range(0, len(e["t"]), every)]
+                bound = [3 * s for s in e["sigma_" + quantity + axis][::every]]
+                ax.plot(t, err, color=colour, lw=0.7, label=axis + " error")
+                ax.plot(t, bound, color=colour, lw=0.7, ls="--")
+                ax.plot(t, [-b for b in bound], color=colour, lw=0.7, ls="--")
+            ax.set_ylabel(f"{name}\n[{unit}]")
+            ax.grid(True, alpha=0.3)
+            if row == 0:
+                ax.set_title(("Position" if quantity == "p" else "Velocity") +
+                             " error (solid) and +-3 sigma (dashed)")
+                ax.legend(loc="upper left", fontsize=7)
+    for ax in axes[-1]:
+        ax.set_xlabel("t [s]")
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "bounds.png"), dpi=120)
+
+    fig, ax = plt.subplots(figsize=(8, 4))
+    for name, (e, bounds) in filters.items():
+        if bounds is None:
+            continue
+        dof, lower, upper = bounds
+        # NEES / dof, so that 9- and 6-dimensional filters share one axis (1 = consistent).
+        ax.semilogy(e["t"][::every], [max(x / dof, 1e-4) for x in e["nees"][::every]], lw=0.6,
+                    label=f"{name} (dof {dof}, 95 %: [{lower / dof:.2f}, {upper / dof:.2f}])")
+    ax.axhline(1.0, color="k", lw=1)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("NEES / dof")
+    ax.set_title("Consistency of one run (single-run 95 % bounds in the legend)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "nees.png"), dpi=120)
 
 
 if __name__ == "__main__":
