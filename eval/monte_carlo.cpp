@@ -58,6 +58,7 @@ std::vector<MonteCarloEstimate> monteCarlo(const MonteCarloOptions& options,
           const std::unique_ptr<Estimator> estimator = estimators[e].make();
           RunResult run = runOnLog(*estimator, log, frontend, x0);
           metrics[j][e] = compare(log, run.trajectory);
+          if (options.on_run) options.on_run(j, e, log, run);
           run.trajectory.clear();  // the metrics hold what is needed; keep memory bounded
           run.sigma.clear();
           results[j][e] = std::move(run);

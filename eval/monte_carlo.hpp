@@ -16,6 +16,7 @@
 #include "estimation/estimator.hpp"
 #include "eval/consistency.hpp"
 #include "eval/metrics.hpp"
+#include "eval/runner.hpp"
 #include "sim/simulator.hpp"
 
 namespace legkit::eval {
@@ -34,6 +35,10 @@ struct MonteCarloOptions {
   // The initial state of run j from its log (default: the log's ground truth at row 0). The
   // convergence study uses it to start the filters away from the truth.
   std::function<EstimateSample(const io::Log&, int run)> initial_state;
+  // Called once per run and estimator, from the worker thread, with the full result of that run
+  // (trajectory, sigma, NEES) before it is reduced: for studies that need more than the metrics.
+  // It must be safe to call from several threads at once.
+  std::function<void(int run, std::size_t estimator, const io::Log&, const RunResult&)> on_run;
 };
 
 struct MonteCarloEstimate {
