@@ -1,1 +1,410 @@
-// placeholder, being written (issue 4)
+#include "estimation/invariant/tsif.hpp"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "lie/imu_dynamics.hpp"
+#include "lie/sek3.hpp"
+
+namespace legkit::invariant {
+
+namespace tsif {
+
+namespace {
+
+using Matrix3 = Eigen::Matrix3d;
+using Vector3 = Eigen::Vector3d;
+
+// Offsets in the 27-vector of the five navigation blocks (dtheta, dv, dp, db_g, db_a), the
+// columns of the IMU residual's Jacobians.
+constexpr std::array<int, 5> kNav = {kTheta, kV, kP, kBg, kBa};
+
+// H(rows a, cols b) += M, M 15 x 15 over navigation blocks.
+void addNavBlock(Matrix27& H, const Matrix15& M) {
+  for (int a = 0; a < 5; ++a)
+    for (int b = 0; b < 5; ++b) H.block<3, 3>(kNav[a], kNav[b]) += M.block<3, 3>(3 * a, 3 * b);
+}
+
+void addNavVector(Vector27& g, const Vector15& m) {
+  for (int a = 0; a < 5; ++a) g.segment<3>(kNav[a]) += m.segment<3>(3 * a);
+}
+
+}  // namespace
+
+State State::plus(const Vector27& dx) const {
+  State x = *this;
+  x.R = R * lie::SO3d::Exp(dx.segment<3>(kTheta));  // R = R_hat Exp(dtheta)
+  x.v += dx.segment<3>(kV);
+  x.p += dx.segment<3>(kP);
+  for (int i = 0; i < kFeet; ++i) x.d[i] += dx.segment<3>(footIndex(i));
+  x.b_g += dx.segment<3>(kBg);
+  x.b_a += dx.segment<3>(kBa);
+  return x;
+}
+
+Vector27 State::minus(const State& y) const {
+  Vector27 dx;
+  dx.segment<3>(kTheta) = R.rminus(y.R);  // Log(R_y^T R)
+  dx.segment<3>(kV) = v - y.v;
+  dx.segment<3>(kP) = p - y.p;
+  for (int i = 0; i < kFeet; ++i) dx.segment<3>(footIndex(i)) = d[i] - y.d[i];
+  dx.segment<3>(kBg) = b_g - y.b_g;
+  dx.segment<3>(kBa) = b_a - y.b_a;
+  return dx;
+}
+
+ImuResidual imuResidual(const State& x0, const State& x1, const model::ImuReading& u, double dt,
+                        const Vector3& g) {
+  const Vector3 phi = (u.w_m - x0.b_g) * dt;  // rotation over dt, bias-corrected
+  const Vector3 f = u.a_m - x0.b_a;           // specific force, bias-corrected
+  const lie::AngleSeries<double> c(phi.squaredNorm());
+  const Matrix3 Gamma1 = lie::Gamma<1>(phi);
+  const Matrix3 Gamma2 = lie::Gamma<2>(phi);
+  const Matrix3& R0 = x0.R.matrix();
+  const Vector3 dv = Gamma1 * f * dt;       // body-frame velocity increment
+  const Vector3 dp = Gamma2 * f * dt * dt;  // body-frame position increment
+
+  // E = Exp(phi)^T R_k^T R_{k+1}: identity for the exact motion.
+  const lie::SO3d E = lie::SO3d::Exp(phi).inverse() * x0.R.inverse() * x1.R;
+  ImuResidual res;
+  res.r.segment<3>(0) = E.Log();                                                // r_R
+  res.r.segment<3>(3) = x1.v - x0.v - g * dt - R0 * dv;                         // r_v
+  res.r.segment<3>(6) = x1.p - x0.p - x0.v * dt - 0.5 * g * dt * dt - R0 * dp;  // r_p
+  res.r.segment<3>(9) = x1.b_g - x0.b_g;                                        // r_bg
+  res.r.segment<3>(12) = x1.b_a - x0.b_a;                                       // r_ba
+
+  const Matrix3 I = Matrix3::Identity();
+  const Matrix3 JrInv = lie::SO3d::JrInv(res.r.segment<3>(0));
+  res.J_x0.setZero();
+  res.J_x1.setZero();
+  // r_R: R_k Exp(d) gives Exp(-R_{k+1}^T R_k d) on the right of E; the gyro bias moves phi by
+  // -dt db_g, i.e. Exp(phi)^T by Exp(Jr(phi) dt db_g) on the left.
+  res.J_x0.block<3, 3>(0, 0) = -JrInv * x1.R.matrix().transpose() * R0;
+  res.J_x0.block<3, 3>(0, 9) = JrInv * E.matrix().transpose() * lie::SO3d::Jr(phi) * dt;
+  res.J_x1.block<3, 3>(0, 0) = JrInv;
+  // r_v: R_k Exp(d) y = R_k y - R_k [y]_x d.
+  res.J_x0.block<3, 3>(3, 0) = R0 * lie::hat3(dv);
+  res.J_x0.block<3, 3>(3, 3) = -I;
+  res.J_x0.block<3, 3>(3, 9) = R0 * lie::imu::dGammaTimesVector<1>(phi, f, c) * (dt * dt);
+  res.J_x0.block<3, 3>(3, 12) = R0 * Gamma1 * dt;
+  res.J_x1.block<3, 3>(3, 3) = I;
+  // r_p
+  res.J_x0.block<3, 3>(6, 0) = R0 * lie::hat3(dp);
+  res.J_x0.block<3, 3>(6, 3) = -dt * I;
+  res.J_x0.block<3, 3>(6, 6) = -I;
+  res.J_x0.block<3, 3>(6, 9) = R0 * lie::imu::dGammaTimesVector<2>(phi, f, c) * (dt * dt * dt);
+  res.J_x0.block<3, 3>(6, 12) = R0 * Gamma2 * (dt * dt);
+  res.J_x1.block<3, 3>(6, 6) = I;
+  // biases
+  res.J_x0.block<3, 3>(9, 9) = -I;
+  res.J_x0.block<3, 3>(12, 12) = -I;
+  res.J_x1.block<3, 3>(9, 9) = I;
+  res.J_x1.block<3, 3>(12, 12) = I;
+  return res;
+}
+
+Matrix15 imuWeight(const model::ImuNoise& noise, double dt) {
+  const Matrix3 I = Matrix3::Identity();
+  const double var_g = noise.gyro_noise_density * noise.gyro_noise_density;
+  const double var_a = noise.accel_noise_density * noise.accel_noise_density;
+  const double var_bg = noise.gyro_bias_random_walk * noise.gyro_bias_random_walk;
+  const double var_ba = noise.accel_bias_random_walk * noise.accel_bias_random_walk;
+  Matrix15 W = Matrix15::Zero();
+  W.block<3, 3>(0, 0) = I / (var_g * dt);
+  // Inverse of sigma_a^2 [[dt, dt^2/2], [dt^2/2, dt^3/3]] per axis.
+  W.block<3, 3>(3, 3) = 4.0 / (var_a * dt) * I;
+  W.block<3, 3>(3, 6) = -6.0 / (var_a * dt * dt) * I;
+  W.block<3, 3>(6, 3) = W.block<3, 3>(3, 6);
+  W.block<3, 3>(6, 6) = 12.0 / (var_a * dt * dt * dt) * I;
+  W.block<3, 3>(9, 9) = I / (var_bg * dt);
+  W.block<3, 3>(12, 12) = I / (var_ba * dt);
+  return W;
+}
+
+Vector3 kinematicsResidual(const State& x, int i, const Vector3& p_body, Matrix39* J_x) {
+  const Matrix3& R = x.R.matrix();
+  const Vector3 r_body = R.transpose() * (x.d[i] - x.p);  // the foot seen from the body
+  if (J_x) {
+    J_x->block<3, 3>(0, 0) = lie::hat3(r_body);  // (R Exp(d))^T y = R^T y + [R^T y]_x d
+    J_x->block<3, 3>(0, 3) = -R.transpose();
+    J_x->block<3, 3>(0, 6) = R.transpose();
+  }
+  return r_body - p_body;
+}
+
+}  // namespace tsif
+
+using namespace tsif;
+
+namespace {
+
+[[noreturn]] void fail(double t, const std::string& what) {
+  std::ostringstream os;
+  os << "Tsif::step at t = " << t << ": " << what;
+  throw std::invalid_argument(os.str());
+}
+
+void requirePositive(double value, const char* what) {
+  if (value > 0.0 && std::isfinite(value)) return;
+  std::ostringstream os;
+  os << "Tsif: " << what << " must be positive and finite, got " << value;
+  throw std::invalid_argument(os.str());
+}
+
+// Marginalises foot i out of the information Lambda (Schur complement of its 3 x 3 block), then
+// gives it the weak prior sigma: the foot forgets where it was and is uncorrelated with the rest.
+void reinitialiseFoot(Matrix27& Lambda, int i, double sigma) {
+  const int f = footIndex(i);
+  const Eigen::Matrix<double, kDim, 3> B = Lambda.middleCols<3>(f);
+  const Eigen::LLT<Eigen::Matrix3d> llt(Lambda.block<3, 3>(f, f));
+  Lambda.noalias() -= B * llt.solve(B.transpose());
+  Lambda.middleRows<3>(f).setZero();
+  Lambda.middleCols<3>(f).setZero();
+  Lambda.block<3, 3>(f, f) = Eigen::Matrix3d::Identity() / (sigma * sigma);
+}
+
+}  // namespace
+
+Tsif::Tsif(const TsifParams& params) : params_(params) {
+  requirePositive(params.imu.gyro_noise_density, "gyro noise density");
+  requirePositive(params.imu.accel_noise_density, "accelerometer noise density");
+  requirePositive(params.imu.gyro_bias_random_walk, "gyro bias random walk");
+  requirePositive(params.imu.accel_bias_random_walk, "accelerometer bias random walk");
+  requirePositive(params.foot_stance_density, "foot_stance_density");
+  requirePositive(params.foot_swing_density, "foot_swing_density");
+  requirePositive(params.foot_init_sigma, "foot_init_sigma");
+  requirePositive(params.sigma_attitude, "sigma_attitude");
+  requirePositive(params.sigma_velocity, "sigma_velocity");
+  requirePositive(params.sigma_position, "sigma_position");
+  requirePositive(params.sigma_gyro_bias, "sigma_gyro_bias");
+  requirePositive(params.sigma_accel_bias, "sigma_accel_bias");
+  if (params.iterations < 1) {
+    throw std::invalid_argument("Tsif: iterations must be at least 1, got " +
+                                std::to_string(params.iterations));
+  }
+  if (!params.gravity.allFinite()) throw std::invalid_argument("Tsif: gravity is not finite");
+  reset(EstimateSample{});
+}
+
+void Tsif::reset(const EstimateSample& x0) {
+  x_ = State{};
+  x_.R = lie::SO3d::fromQuaternion(x0.q);
+  x_.v = x0.v;
+  x_.p = x0.p;
+  for (Eigen::Vector3d& d : x_.d) d = x0.p;  // unknown until the foot touches down
+  Vector27 information;
+  const auto set = [&](int offset, double sigma) {
+    information.segment<3>(offset).setConstant(1.0 / (sigma * sigma));
+  };
+  set(kTheta, params_.sigma_attitude);
+  set(kV, params_.sigma_velocity);
+  set(kP, params_.sigma_position);
+  for (int i = 0; i < kFeet; ++i) set(footIndex(i), params_.foot_init_sigma);
+  set(kBg, params_.sigma_gyro_bias);
+  set(kBa, params_.sigma_accel_bias);
+  Lambda_ = information.asDiagonal();
+  in_contact_.fill(false);
+  t_ = x0.t;
+  has_previous_ = false;
+}
+
+void Tsif::validate(const StepInput& in) const {
+  if (!std::isfinite(in.t)) fail(in.t, "time t is not finite");
+  if (!(in.dt >= 0.0) || !std::isfinite(in.dt)) {
+    fail(in.t, "dt must be finite and non-negative, got " + std::to_string(in.dt));
+  }
+  if (!in.imu.w_m.allFinite()) fail(in.t, "gyro reading w_m is not finite");
+  if (!in.imu.a_m.allFinite()) fail(in.t, "accelerometer reading a_m is not finite");
+  if (in.num_contacts < 0 || in.num_contacts > leg_odometry::kMaxContacts) {
+    fail(in.t, "num_contacts = " + std::to_string(in.num_contacts) + " is out of range");
+  }
+  std::array<bool, kFeet> seen{};
+  for (const ContactMeasurement& c : in.stance()) {
+    const std::string foot = "contact of foot " + std::to_string(c.foot);
+    if (c.foot < 0 || c.foot >= kFeet) {
+      fail(in.t, "foot id " + std::to_string(c.foot) + " is out of range [0, " +
+                     std::to_string(kFeet) + ")");
+    }
+    if (seen[c.foot]) fail(in.t, foot + " appears twice");
+    seen[c.foot] = true;
+    if (!c.p_body.allFinite()) fail(in.t, foot + ": p_body is not finite");
+    if (!c.cov.allFinite()) fail(in.t, foot + ": covariance is not finite");
+    if ((c.cov - c.cov.transpose()).norm() > 1e-9 * (1.0 + c.cov.norm())) {
+      fail(in.t, foot + ": covariance is not symmetric");
+    }
+    if (Eigen::LLT<Eigen::Matrix3d>(c.cov).info() != Eigen::Success) {
+      fail(in.t, foot + ": covariance is not positive definite");
+    }
+  }
+}
+
+void Tsif::step(const StepInput& in) {
+  validate(in);
+  std::array<const ContactMeasurement*, kFeet> contact{};  // the stance feet at k+1
+  for (const ContactMeasurement& c : in.stance()) contact[c.foot] = &c;
+
+  if (!has_previous_ || in.dt == 0.0) {
+    // No pair to solve yet: only the feet that are down are placed, d = p + R p_body.
+    for (int i = 0; i < kFeet; ++i) {
+      if (contact[i] && !in_contact_[i]) {
+        reinitialiseFoot(Lambda_, i, params_.foot_init_sigma);
+        x_.d[i] = x_.p + x_.R * contact[i]->p_body;
+      }
+      in_contact_[i] = contact[i] != nullptr;
+    }
+    previous_ = in.imu;
+    has_previous_ = true;
+    t_ = in.t;
+    return;
+  }
+
+  const double dt = in.dt;
+  // The pair (x0, x1) = (x_k, x_{k+1}); x1 starts at the IMU prediction of x0.
+  State x0 = x_;
+  Matrix27 Lambda0 = Lambda_;
+  State x1 = x0;
+  {
+    lie::SE23d::Columns C;
+    C << x0.v, x0.p;
+    const lie::SE23d X1 =
+        lie::imu::propagate(lie::SE23d(x0.R, C), Eigen::Vector3d(previous_.w_m - x0.b_g),
+                            Eigen::Vector3d(previous_.a_m - x0.b_a), params_.gravity, dt);
+    x1.R = X1.rotation();
+    x1.v = X1.col(0);
+    x1.p = X1.col(1);
+  }
+  // Touchdown: the foot is re-initialised from this sample's kinematics (in both states, the
+  // stance residual then ties them).
+  for (int i = 0; i < kFeet; ++i) {
+    if (!contact[i] || in_contact_[i]) continue;
+    reinitialiseFoot(Lambda0, i, params_.foot_init_sigma);
+    x0.d[i] = x1.d[i] = x1.p + x1.R * contact[i]->p_body;
+  }
+  const State prior = x0;
+
+  // Weights of this step.
+  const Matrix15 W_imu = imuWeight(params_.imu, dt);
+  std::array<double, kFeet> w_c{};  // foot residual d_{k+1} - d_k: w_c I = (density^2 dt)^-1 I
+  for (int i = 0; i < kFeet; ++i) {
+    const double density = contact[i] ? params_.foot_stance_density : params_.foot_swing_density;
+    w_c[i] = 1.0 / (density * density * dt);
+  }
+  std::array<Eigen::Matrix3d, kFeet> W_kin{};  // Cov_i^-1 of the kinematics of stance feet
+  for (int i = 0; i < kFeet; ++i) {
+    if (contact[i]) W_kin[i] = contact[i]->cov.llt().solve(Eigen::Matrix3d::Identity());
+  }
+
+  Matrix27 S;  // the reduced (marginal) information of x1 of the last iteration
+  for (int iteration = 0; iteration < params_.iterations; ++iteration) {
+    // Normal equations [H11 H12; H12^T H22] [dx0; dx1] = -[b1; b2].
+    Matrix27 H11, H12, H22;
+    Vector27 b1, b2;
+    H12.setZero();
+    H22.setZero();
+    b2.setZero();
+
+    // Prior: r0 = x0 (-) prior, Jacobian identity except JrInv(r0_theta) on the attitude.
+    const Vector27 r0 = x0.minus(prior);
+    const Eigen::Matrix3d A = lie::SO3d::JrInv(r0.segment<3>(kTheta));
+    H11 = Lambda0;
+    H11.leftCols<3>() = (H11.leftCols<3>() * A).eval();
+    H11.topRows<3>() = (A.transpose() * H11.topRows<3>()).eval();
+    b1 = Lambda0 * r0;
+    b1.head<3>() = (A.transpose() * b1.head<3>()).eval();
+
+    // IMU between x0 and x1.
+    const ImuResidual e = imuResidual(x0, x1, previous_, dt, params_.gravity);
+    // J_x1 is the identity but for its attitude block A1 = JrInv(r_R), and W_imu does not couple
+    // r_R with the other rows: the products with J_x1 are W_imu with A1 applied to the attitude.
+    const Matrix15 WJ0 = W_imu * e.J_x0;
+    const Eigen::Matrix3d A1 = e.J_x1.topLeftCorner<3, 3>();
+    Matrix15 H12_nav = WJ0.transpose();  // J_x0^T W J_x1
+    H12_nav.leftCols<3>() = (H12_nav.leftCols<3>() * A1).eval();
+    Matrix15 H22_nav = W_imu;  // J_x1^T W J_x1
+    H22_nav.topLeftCorner<3, 3>() = A1.transpose() * W_imu.topLeftCorner<3, 3>() * A1;
+    tsif::Vector15 b2_nav = W_imu * e.r;  // J_x1^T W r
+    b2_nav.head<3>() = (A1.transpose() * b2_nav.head<3>()).eval();
+    addNavBlock(H11, e.J_x0.transpose() * WJ0);
+    addNavBlock(H12, H12_nav);
+    addNavBlock(H22, H22_nav);
+    addNavVector(b1, WJ0.transpose() * e.r);
+    addNavVector(b2, b2_nav);
+
+    // Feet: r = d_{i,k+1} - d_{i,k}, Jacobians -I and I.
+    for (int i = 0; i < kFeet; ++i) {
+      const int f = footIndex(i);
+      const Eigen::Vector3d r = x1.d[i] - x0.d[i];
+      H11.block<3, 3>(f, f).diagonal().array() += w_c[i];
+      H22.block<3, 3>(f, f).diagonal().array() += w_c[i];
+      H12.block<3, 3>(f, f).diagonal().array() -= w_c[i];
+      b1.segment<3>(f) -= w_c[i] * r;
+      b2.segment<3>(f) += w_c[i] * r;
+    }
+
+    // Kinematics of the stance feet at k+1, over (dtheta, dp, dd_i) of x1.
+    for (int i = 0; i < kFeet; ++i) {
+      if (!contact[i]) continue;
+      Matrix39 J;
+      const Eigen::Vector3d r = kinematicsResidual(x1, i, contact[i]->p_body, &J);
+      const Eigen::Matrix<double, 9, 3> JtW = J.transpose() * W_kin[i];
+      const Eigen::Matrix<double, 9, 9> M = JtW * J;
+      const Eigen::Matrix<double, 9, 1> m = JtW * r;
+      const std::array<int, 3> blocks = {kTheta, kP, footIndex(i)};
+      for (int a = 0; a < 3; ++a) {
+        b2.segment<3>(blocks[a]) += m.segment<3>(3 * a);
+        for (int b = 0; b < 3; ++b)
+          H22.block<3, 3>(blocks[a], blocks[b]) += M.block<3, 3>(3 * a, 3 * b);
+      }
+    }
+
+    // Eliminate x0 with H11 = L L^T: Y = L^-1 H12, z = L^-1 b1, and the reduced (marginal)
+    // information S = H22 - H12^T H11^-1 H12 = H22 - Y^T Y.
+    const Eigen::LLT<Matrix27> llt11(H11);
+    Matrix27 Y = H12;
+    llt11.matrixL().solveInPlace(Y);
+    Vector27 z = b1;
+    llt11.matrixL().solveInPlace(z);
+    S = H22;
+    S.selfadjointView<Eigen::Lower>().rankUpdate(Y.transpose(), -1.0);
+    S = S.selfadjointView<Eigen::Lower>();
+    const Eigen::LLT<Matrix27> llt22(S);
+    if (llt11.info() != Eigen::Success || llt22.info() != Eigen::Success) {
+      std::ostringstream os;
+      os << "Tsif::step at t = " << in.t << ": the normal equations are not positive definite";
+      throw std::runtime_error(os.str());
+    }
+    const Vector27 dx1 = -llt22.solve(b2 - Y.transpose() * z);  // S dx1 = -(b2 - H21 H11^-1 b1)
+    Vector27 dx0 = -(z + Y * dx1);                              // H11 dx0 = -(b1 + H12 dx1)
+    llt11.matrixU().solveInPlace(dx0);
+    x0 = x0.plus(dx0);
+    x1 = x1.plus(dx1);
+  }
+
+  x1.R = lie::SO3d::fromQuaternion(x1.R.quaternion());  // remove rounding drift
+  x_ = x1;
+  Lambda_ = S;
+  for (int i = 0; i < kFeet; ++i) in_contact_[i] = contact[i] != nullptr;
+  previous_ = in.imu;
+  t_ = in.t;
+}
+
+EstimateSample Tsif::estimate() const {
+  return {t_, x_.R.quaternion(), x_.v, x_.p};
+}
+
+std::optional<BaseCovariance> Tsif::covariance() const {
+  // P = Lambda^-1, of which only the first 9 columns are needed.
+  const Eigen::Matrix<double, kDim, 9> E = Eigen::Matrix<double, kDim, 9>::Identity();
+  const Eigen::Matrix<double, 9, 9> P_local = Lambda_.llt().solve(E).topRows<9>();
+  // dtheta_w = R_hat dtheta (local to world), v and p unchanged.
+  Eigen::Matrix<double, 9, 9> T = Eigen::Matrix<double, 9, 9>::Identity();
+  T.topLeftCorner<3, 3>() = x_.R.matrix();
+  BaseCovariance cov;
+  cov.P = T * P_local * T.transpose();
+  cov.P = 0.5 * (cov.P + cov.P.transpose()).eval();
+  return cov;
+}
+
+}  // namespace legkit::invariant

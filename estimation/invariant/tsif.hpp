@@ -1,0 +1,176 @@
+// Bloesch's two-state implicit filter (TSIF, section 57.5; Bloesch, Burri, Sommer, Siegwart and
+// Hutter, "The Two-State Implicit Filter - Recursive Estimation for Mobile Robots", RA-L 2017).
+//
+// Explicit filters (the KFs and the InEKF of this section) write a process model
+// x_{k+1} = f(x_k, u_k) and a measurement model z = h(x). The TSIF writes neither: every piece of
+// information is a residual that should be zero, and a residual may involve the state at two
+// consecutive instants. Each step solves one small weighted least-squares problem over the pair
+// (x_k, x_{k+1}) and then forgets x_k:
+//
+//   min  || x_k (-) x_hat_k ||^2_{Lambda_k}                          prior on x_k
+//      + || r_imu(x_k, x_{k+1}, u_k) ||^2_{W_imu}                    IMU between the two states
+//      + sum_i || d_{i,k+1} - d_{i,k} ||^2_{W_c,i}                   feet: still in stance,
+//                                                                    a weak random walk in swing
+//      + sum_stance || R_{k+1}^T (d_{i,k+1} - p_{k+1}) - p_body,i ||^2_{Cov_i^-1}   kinematics
+//
+// by Gauss-Newton (one or two iterations), and the information matrix of x_{k+1} is the Schur
+// complement that eliminates x_k from the normal equations, i.e. the marginal of x_{k+1}:
+//   Lambda_{k+1} = H_22 - H_21 H_11^-1 H_12.
+// For a linear Gaussian model this is exactly the Kalman filter in information form; with one
+// Gauss-Newton iteration started from the IMU prediction it is the EKF, and a second iteration
+// re-linearises the IMU and kinematics residuals around the improved pair (an iterated filter
+// that also smooths x_k). The prediction and the update are no longer separate stages: the IMU
+// is just another residual, and a contact switches on or off by changing one residual's weight.
+//
+// State x = (R, v, p, d_1..d_4, b_g, b_a): attitude (body to world), world velocity and position,
+// the four feet in the world, gyro and accelerometer biases. Error (tangent) vector, 27 entries,
+//   dx = (dtheta, dv, dp, dd_1..dd_4, db_g, db_a),   R = R_hat Exp(dtheta)   (local, body-frame
+// attitude error; the rest additive). covariance() maps dtheta to the kit's world-frame
+// convention, dtheta_w = R_hat dtheta.
+//
+// IMU residual (previous sample u_k = (w_m, a_m) held over dt, phi = (w_m - b_g,k) dt,
+// f = a_m - b_a,k; the exact solution of the strapdown equations for constant input, as
+// lie::imu::propagate integrates it):
+//   r_R  = Log( Exp(phi)^T R_k^T R_{k+1} )
+//   r_v  = v_{k+1} - v_k - g dt - R_k Gamma_1(phi) f dt
+//   r_p  = p_{k+1} - p_k - v_k dt - g dt^2/2 - R_k Gamma_2(phi) f dt^2
+//   r_bg = b_g,k+1 - b_g,k,   r_ba = b_a,k+1 - b_a,k
+// Its weight is the inverse of the noise the continuous densities integrate to over dt:
+// sigma_g^2 dt on r_R; on (r_v, r_p) per axis sigma_a^2 [[dt, dt^2/2], [dt^2/2, dt^3/3]] (white
+// acceleration integrated once and twice); sigma_bg^2 dt and sigma_ba^2 dt on the biases.
+//
+// Solver. The normal equations of the pair are 54 x 54, but their structure makes a dedicated
+// solver short: x_k is eliminated first (Cholesky of the 27 x 27 block H_11), the reduced
+// 27 x 27 system gives the step of x_{k+1}, back substitution the step of x_k, and the reduced
+// matrix of the last iteration IS the new information matrix, so the solve and the
+// marginalisation are one computation. Every matrix is fixed-size Eigen: step() never
+// allocates. Ceres was the other candidate; building a ceres::Problem, its residual blocks and
+// its sparse linear solver anew 1000 times a second costs allocations and far more time than
+// these few dense 27 x 27 factorisations, and Ceres does not hand back the Schur complement that
+// the marginalisation needs, so it would be computed again by hand anyway.
+//
+// Contacts. A stance foot's residual d_{k+1} - d_k has the small density foot_stance_density
+// (slip); a swing foot gets the large foot_swing_density, so it keeps a state but barely
+// constrains anything. A foot that touches down is re-initialised: it is marginalised out of
+// Lambda_k, its mean is set from the kinematics, d = p + R p_body, and it is given the weak
+// prior foot_init_sigma, so only this step's kinematics residual decides where it is.
+//
+// At the first sample (dt = 0, no previous IMU reading) there is no pair to solve: the filter
+// stores the reading and re-initialises the feet in contact.
+//
+// Numerics: at 1 kHz the IMU weight on position, 12 / (sigma_a^2 dt^3), is about 1e13, while a
+// swing foot's information is of order 1: the information form is badly scaled by nature.
+// Cholesky is insensitive to scaling, and the new Lambda is symmetrised after each step.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <optional>
+
+#include "estimation/estimator.hpp"
+#include "lie/so3.hpp"
+#include "model/imu_model.hpp"
+#include "model/imu_noise.hpp"
+
+namespace legkit::invariant {
+
+namespace tsif {
+
+constexpr int kFeet = 4;                 // d_1..d_4 (quadruped: FL FR RL RR)
+constexpr int kDim = 9 + 3 * kFeet + 6;  // 27: the error vector of one state
+// Offsets of the blocks in the error vector.
+constexpr int kTheta = 0, kV = 3, kP = 6, kD = 9, kBg = 9 + 3 * kFeet, kBa = kBg + 3;
+constexpr int footIndex(int i) {
+  return kD + 3 * i;
+}
+
+using Vector27 = Eigen::Matrix<double, kDim, 1>;
+using Matrix27 = Eigen::Matrix<double, kDim, kDim>;
+using Vector15 = Eigen::Matrix<double, 15, 1>;
+using Matrix15 = Eigen::Matrix<double, 15, 15>;
+using Matrix39 = Eigen::Matrix<double, 3, 9>;
+
+struct State {
+  lie::SO3d R;                                    // body to world
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();    // world velocity [m/s]
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();    // world position [m]
+  std::array<Eigen::Vector3d, kFeet> d{};         // world foot positions [m]
+  Eigen::Vector3d b_g = Eigen::Vector3d::Zero();  // gyro bias [rad/s]
+  Eigen::Vector3d b_a = Eigen::Vector3d::Zero();  // accelerometer bias [m/s^2]
+
+  // x (+) dx: R Exp(dtheta), the rest added.
+  State plus(const Vector27& dx) const;
+  // x (-) y: the dx with y (+) dx = x (Log(R_y^T R_x) for the attitude).
+  Vector27 minus(const State& y) const;
+};
+
+// The IMU residual between two states and its Jacobians. The feet do not enter it, so each
+// Jacobian is 15 x 15 over the navigation blocks (dtheta, dv, dp, db_g, db_a) of its state, in
+// that order (the same order as the residual's rows r_R, r_v, r_p, r_bg, r_ba).
+struct ImuResidual {
+  Vector15 r;
+  Matrix15 J_x0;  // d r / d(x_k)
+  Matrix15 J_x1;  // d r / d(x_{k+1})
+};
+ImuResidual imuResidual(const State& x0, const State& x1, const model::ImuReading& u, double dt,
+                        const Eigen::Vector3d& g = model::gravity());
+
+// The weight W_imu = Q^-1 of that residual for the densities of `noise` over dt (file comment).
+Matrix15 imuWeight(const model::ImuNoise& noise, double dt);
+
+// The kinematics residual of foot i seen at p_body, R^T (d_i - p) - p_body, and its 3 x 9
+// Jacobian over (dtheta, dp, dd_i) of the state.
+Eigen::Vector3d kinematicsResidual(const State& x, int i, const Eigen::Vector3d& p_body,
+                                   Matrix39* J_x = nullptr);
+
+}  // namespace tsif
+
+struct TsifParams {
+  model::ImuNoise imu = model::ImuNoise::go2();  // continuous densities
+  double foot_stance_density = 1e-3;             // a stance foot's slip random walk [m/sqrt(s)]
+  double foot_swing_density = 2.0;               // a swing foot's weak random walk [m/sqrt(s)]
+  double foot_init_sigma = 1.0;                  // prior of a foot at touchdown and at reset [m]
+  int iterations = 1;                            // Gauss-Newton iterations per step (1 or 2)
+  // Prior of the state at reset (standard deviations; attitude per axis, local frame).
+  double sigma_attitude = 0.01;    // [rad]
+  double sigma_velocity = 0.05;    // [m/s]
+  double sigma_position = 0.01;    // [m]
+  double sigma_gyro_bias = 0.002;  // [rad/s]
+  double sigma_accel_bias = 0.02;  // [m/s^2]
+  Eigen::Vector3d gravity = model::gravity();
+};
+
+class Tsif final : public Estimator {
+ public:
+  // Throws std::invalid_argument for a non-positive density, sigma or iteration count.
+  explicit Tsif(const TsifParams& params = {});
+
+  std::string name() const override { return "tsif"; }
+  // Base from x0, biases zero, feet unknown (weak prior); information from the Params sigmas.
+  void reset(const EstimateSample& x0) override;
+  // One two-state Gauss-Newton solve and marginalisation. Throws std::invalid_argument (and
+  // leaves the state untouched) for a non-finite time, IMU reading or contact, a negative dt,
+  // a foot id out of range or repeated, or a contact covariance that is not symmetric positive
+  // definite.
+  void step(const StepInput& in) override;
+  EstimateSample estimate() const override;
+  // The (dtheta_w, dv, dp) block of Lambda^-1, attitude mapped to the world frame.
+  std::optional<BaseCovariance> covariance() const override;
+
+  const tsif::State& state() const { return x_; }
+  const tsif::Matrix27& information() const { return Lambda_; }
+  bool inContact(int i) const { return in_contact_[i]; }
+
+ private:
+  void validate(const StepInput& in) const;
+
+  TsifParams params_;
+  tsif::State x_;
+  tsif::Matrix27 Lambda_ = tsif::Matrix27::Identity();  // information of x_ (tangent at x_)
+  std::array<bool, tsif::kFeet> in_contact_{};
+  double t_ = 0.0;
+  model::ImuReading previous_;
+  bool has_previous_ = false;
+};
+
+}  // namespace legkit::invariant
