@@ -1,1 +1,363 @@
-// placeholder, being written (issue 4)
+#include "estimation/invariant/eskf.hpp"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "lie/imu_dynamics.hpp"
+
+namespace legkit::invariant {
+
+namespace eskf {
+
+namespace {
+using Matrix3 = Eigen::Matrix3d;
+using Vector3 = Eigen::Vector3d;
+}  // namespace
+
+State State::plus(const Vector27& dx) const {
+  State x = *this;
+  x.R = R * lie::SO3d::Exp(dx.segment<3>(kTheta));  // R = R_hat Exp(dtheta)
+  x.v += dx.segment<3>(kV);
+  x.p += dx.segment<3>(kP);
+  for (int i = 0; i < kFeet; ++i) x.d[i] += dx.segment<3>(footIndex(i));
+  x.b_g += dx.segment<3>(kBg);
+  x.b_a += dx.segment<3>(kBa);
+  return x;
+}
+
+Vector27 State::minus(const State& y) const {
+  Vector27 dx;
+  dx.segment<3>(kTheta) = R.rminus(y.R);  // Log(R_y^T R)
+  dx.segment<3>(kV) = v - y.v;
+  dx.segment<3>(kP) = p - y.p;
+  for (int i = 0; i < kFeet; ++i) dx.segment<3>(footIndex(i)) = d[i] - y.d[i];
+  dx.segment<3>(kBg) = b_g - y.b_g;
+  dx.segment<3>(kBa) = b_a - y.b_a;
+  return dx;
+}
+
+State propagate(const State& x, const model::ImuReading& u, double dt, const Vector3& g) {
+  const Vector3 phi = (u.w_m - x.b_g) * dt;  // rotation over dt, bias-corrected
+  const Vector3 f = u.a_m - x.b_a;           // specific force, bias-corrected
+  const Matrix3& R = x.R.matrix();
+  State next = x;
+  // R+ = R Exp(phi), re-normalised through the quaternion so that rounding never accumulates.
+  next.R = lie::SO3d::fromQuaternion(Eigen::Quaterniond(R * lie::SO3d::Exp(phi).matrix()));
+  next.v = x.v + R * (lie::Gamma<1>(phi) * f) * dt + g * dt;  // v + R Gamma_1 f dt + g dt
+  next.p = x.p + x.v * dt + R * (lie::Gamma<2>(phi) * f) * (dt * dt) +
+           0.5 * g * (dt * dt);  // p + v dt + R Gamma_2 f dt^2 + g dt^2/2
+  return next;
+}
+
+Matrix27 errorDynamics(const State& x, const model::ImuReading& u) {
+  const Vector3 w = u.w_m - x.b_g;
+  const Vector3 f = u.a_m - x.b_a;
+  const Matrix3& R = x.R.matrix();
+  Matrix27 F = Matrix27::Zero();
+  F.block<3, 3>(kTheta, kTheta) = -lie::hat3(w);      // d(dtheta)/dt = -[w]_x dtheta
+  F.block<3, 3>(kTheta, kBg) = -Matrix3::Identity();  //              - db_g
+  F.block<3, 3>(kV, kTheta) = -R * lie::hat3(f);      // d(dv)/dt = -R_hat [f]_x dtheta
+  F.block<3, 3>(kV, kBa) = -R;                        //          - R_hat db_a
+  F.block<3, 3>(kP, kV) = Matrix3::Identity();        // d(dp)/dt = dv
+  return F;
+}
+
+Matrix27 Transition::matrix() const {
+  Matrix27 Phi = Matrix27::Identity();
+  Phi.topLeftCorner<9, 9>() = nav;
+  Phi.block<9, 6>(0, kBg) = bias;
+  return Phi;
+}
+
+Transition transition(const State& x, const model::ImuReading& u, double dt) {
+  const Vector3 phi = (u.w_m - x.b_g) * dt;
+  const Vector3 f = u.a_m - x.b_a;
+  const lie::AngleSeries<double> c(phi.squaredNorm());
+  const Matrix3 Gamma1 = lie::Gamma<1>(phi);
+  const Matrix3 Gamma2 = lie::Gamma<2>(phi);
+  const Matrix3& R = x.R.matrix();
+  const Matrix3 I = Matrix3::Identity();
+  const double dt2 = dt * dt;
+
+  Transition T;
+  T.nav.setIdentity();
+  // R Exp(dtheta) Exp(phi) = R Exp(phi) Exp(Exp(phi)^T dtheta).
+  T.nav.block<3, 3>(kTheta, kTheta) = lie::SO3d::Exp(phi).matrix().transpose();
+  // R Exp(dtheta) y = R y - R [y]_x dtheta, for y the body-frame increments of v and p.
+  T.nav.block<3, 3>(kV, kTheta) = -R * lie::hat3(Vector3(Gamma1 * f * dt));
+  T.nav.block<3, 3>(kP, kTheta) = -R * lie::hat3(Vector3(Gamma2 * f * dt2));
+  T.nav.block<3, 3>(kP, kV) = dt * I;
+  // db_g moves phi by -db_g dt: Exp(phi - d dt) = Exp(phi) Exp(-Jr(phi) d dt), and the
+  // increments by their derivatives in phi; db_a enters the increments linearly.
+  T.bias.block<3, 3>(kTheta, 0) = -lie::SO3d::Jr(phi) * dt;
+  T.bias.block<3, 3>(kTheta, 3).setZero();
+  T.bias.block<3, 3>(kV, 0) = -R * lie::imu::dGammaTimesVector<1>(phi, f, c) * dt2;
+  T.bias.block<3, 3>(kV, 3) = -R * Gamma1 * dt;
+  T.bias.block<3, 3>(kP, 0) = -R * lie::imu::dGammaTimesVector<2>(phi, f, c) * (dt2 * dt);
+  T.bias.block<3, 3>(kP, 3) = -R * Gamma2 * dt2;
+  return T;
+}
+
+Vector3 footInBody(const State& x, int i, Matrix39* H) {
+  const Matrix3 Rt = x.R.matrix().transpose();
+  const Vector3 h = Rt * (x.d[i] - x.p);  // h_i = R^T (d_i - p)
+  if (H) {
+    H->block<3, 3>(0, 0) = lie::hat3(h);  // dtheta: Exp(-dtheta) h = h + [h]_x dtheta
+    H->block<3, 3>(0, 3) = -Rt;           // dp
+    H->block<3, 3>(0, 6) = Rt;            // dd_i
+  }
+  return h;
+}
+
+}  // namespace eskf
+
+using eskf::kBa;
+using eskf::kBg;
+using eskf::kDim;
+using eskf::kFeet;
+using eskf::kP;
+using eskf::kTheta;
+using eskf::kV;
+using eskf::Matrix27;
+using eskf::Vector27;
+
+namespace {
+
+using Matrix3 = Eigen::Matrix3d;
+using Vector3 = Eigen::Vector3d;
+using Matrix27x3 = Eigen::Matrix<double, kDim, 3>;
+
+[[noreturn]] void fail(double t, const std::string& what) {
+  std::ostringstream os;
+  os << "Eskf::step at t = " << t << ": " << what;
+  throw std::invalid_argument(os.str());
+}
+
+void requireParam(bool ok, const char* what) {
+  if (!ok) throw std::invalid_argument(std::string("Eskf: ") + what);
+}
+
+}  // namespace
+
+Eskf::Eskf(const EskfParams& params) : params_(params) {
+  const model::ImuNoise& n = params.imu;
+  requireParam(n.gyro_noise_density >= 0.0 && n.accel_noise_density >= 0.0 &&
+                   n.gyro_bias_random_walk >= 0.0 && n.accel_bias_random_walk >= 0.0 &&
+                   std::isfinite(n.gyro_noise_density + n.accel_noise_density +
+                                 n.gyro_bias_random_walk + n.accel_bias_random_walk),
+               "IMU noise densities must be finite and non-negative");
+  requireParam(params.foot_stance_density >= 0.0 && std::isfinite(params.foot_stance_density),
+               "foot_stance_density must be finite and non-negative");
+  requireParam(params.foot_swing_density >= 0.0 && std::isfinite(params.foot_swing_density),
+               "foot_swing_density must be finite and non-negative");
+  for (const double sigma :
+       {params.foot_init_sigma, params.sigma_attitude, params.sigma_velocity, params.sigma_position,
+        params.sigma_gyro_bias, params.sigma_accel_bias}) {
+    requireParam(sigma > 0.0 && std::isfinite(sigma),
+                 "foot_init_sigma and the prior sigmas must be positive and finite");
+  }
+  requireParam(params.gravity.allFinite(), "gravity must be finite");
+  reset(EstimateSample{});
+}
+
+void Eskf::reset(const EstimateSample& x0) {
+  x_ = eskf::State{};
+  x_.R = lie::SO3d::fromQuaternion(x0.q);
+  x_.v = x0.v;
+  x_.p = x0.p;
+  for (Vector3& d : x_.d) d = x0.p;  // unknown until touchdown
+  const auto variance = [](double sigma) { return sigma * sigma; };
+  Vector27 diag;
+  diag.segment<3>(kTheta).setConstant(variance(params_.sigma_attitude));
+  diag.segment<3>(kV).setConstant(variance(params_.sigma_velocity));
+  diag.segment<3>(kP).setConstant(variance(params_.sigma_position));
+  diag.segment<3 * kFeet>(eskf::kD).setConstant(variance(params_.foot_init_sigma));
+  diag.segment<3>(kBg).setConstant(variance(params_.sigma_gyro_bias));
+  diag.segment<3>(kBa).setConstant(variance(params_.sigma_accel_bias));
+  P_ = diag.asDiagonal();
+  in_contact_.fill(false);
+  t_ = x0.t;
+  previous_ = model::ImuReading{};
+  has_previous_ = false;
+}
+
+void Eskf::validate(const StepInput& in) const {
+  const double t = in.t;
+  if (!std::isfinite(t)) fail(t, "time t is not finite");
+  if (!(in.dt >= 0.0) || !std::isfinite(in.dt)) {
+    std::ostringstream os;
+    os << "dt must be finite and non-negative, got " << in.dt;
+    fail(t, os.str());
+  }
+  if (!in.imu.w_m.allFinite()) fail(t, "gyro reading w_m is not finite");
+  if (!in.imu.a_m.allFinite()) fail(t, "accelerometer reading a_m is not finite");
+  if (in.num_contacts < 0 || in.num_contacts > static_cast<int>(in.contacts.size())) {
+    fail(t, "num_contacts = " + std::to_string(in.num_contacts) + " is out of range [0, " +
+                std::to_string(in.contacts.size()) + "]");
+  }
+  std::array<bool, kFeet> seen{};
+  for (const ContactMeasurement& c : in.stance()) {
+    // Messages are built only on failure: the normal path does not allocate.
+    const auto footFail = [&](const std::string& what) {
+      fail(t, "foot id " + std::to_string(c.foot) + " " + what);
+    };
+    if (c.foot < 0 || c.foot >= kFeet) {
+      footFail("is out of range [0, " + std::to_string(kFeet) + ")");
+    }
+    if (seen[c.foot]) footFail("appears twice among the contacts");
+    seen[c.foot] = true;
+    if (!c.p_body.allFinite()) footFail("p_body is not finite");
+    if (!c.cov.allFinite()) footFail("covariance is not finite");
+    if ((c.cov - c.cov.transpose()).norm() > 1e-9 * (1.0 + c.cov.norm())) {
+      footFail("covariance is not symmetric");
+    }
+    if (Eigen::LLT<Matrix3>(c.cov).info() != Eigen::Success) {
+      footFail("covariance is not positive definite");
+    }
+  }
+}
+
+void Eskf::predict(double dt) {
+  const eskf::Transition Phi = eskf::transition(x_, previous_, dt);
+  // P <- Phi P Phi^T: only the rows and columns (dtheta, dv, dp) change. (lazyProduct here and in
+  // the update: these products have an inner dimension of 3 to 9, where Eigen's blocked GEMM
+  // spends more time packing than multiplying.)
+  Eigen::Matrix<double, 9, kDim> M;  // Phi's navigation rows times P
+  M.noalias() = Phi.nav.lazyProduct(P_.topRows<9>());
+  M.noalias() += Phi.bias.lazyProduct(P_.middleRows<6>(kBg));
+  Eigen::Matrix<double, 9, 9> M_nav;
+  M_nav.noalias() = M.leftCols<9>() * Phi.nav.transpose();
+  M_nav.noalias() += M.middleCols<6>(kBg) * Phi.bias.transpose();
+  P_.topRows<9>() = M;
+  P_.leftCols<9>() = M.transpose();
+  P_.topLeftCorner<9, 9>() = 0.5 * (M_nav + M_nav.transpose());
+
+  // P <- P + Q (file comment).
+  const model::ImuNoise& n = params_.imu;
+  const double var_a = n.accel_noise_density * n.accel_noise_density;
+  const auto addDiagonal = [&](int at, double variance) {
+    P_.block<3, 3>(at, at).diagonal().array() += variance;
+  };
+  addDiagonal(kTheta, n.gyro_noise_density * n.gyro_noise_density * dt);
+  addDiagonal(kV, var_a * dt);
+  addDiagonal(kP, var_a * dt * dt * dt / 3.0);
+  P_.block<3, 3>(kV, kP).diagonal().array() += var_a * dt * dt / 2.0;
+  P_.block<3, 3>(kP, kV).diagonal().array() += var_a * dt * dt / 2.0;
+  for (int i = 0; i < kFeet; ++i) {
+    const double sigma_d =
+        in_contact_[i] ? params_.foot_stance_density : params_.foot_swing_density;
+    addDiagonal(eskf::footIndex(i), sigma_d * sigma_d * dt);
+  }
+  addDiagonal(kBg, n.gyro_bias_random_walk * n.gyro_bias_random_walk * dt);
+  addDiagonal(kBa, n.accel_bias_random_walk * n.accel_bias_random_walk * dt);
+
+  x_ = eskf::propagate(x_, previous_, dt, params_.gravity);
+}
+
+void Eskf::updateFoot(int i, const ContactMeasurement& c, Vector27& dx) {
+  const int d = eskf::footIndex(i);
+  eskf::Matrix39 H;  // over (dtheta, dp, dd_i)
+  const Vector3 h = eskf::footInBody(x_, i, &H);
+  const auto Hblock = [&](int k) { return H.block<3, 3>(0, 3 * k); };
+  const std::array<int, 3> cols = {kTheta, kP, d};
+
+  // P H^T (27 x 3) from H's three non-zero blocks.
+  Matrix27x3 PHt = Matrix27x3::Zero();
+  for (int k = 0; k < 3; ++k)
+    PHt.noalias() += P_.middleCols<3>(cols[k]).lazyProduct(Hblock(k).transpose());
+  Matrix3 S = c.cov;  // S = H P H^T + Cov
+  for (int k = 0; k < 3; ++k) S.noalias() += Hblock(k) * PHt.middleRows<3>(cols[k]);
+  // K = P H^T S^-1. S is 3 x 3 and symmetric positive definite (at least Cov): its closed-form
+  // inverse is exact enough and far cheaper than a general solve.
+  const Matrix27x3 K = PHt.lazyProduct(S.inverse());
+
+  // Innovation against the error mean accumulated so far: z - h(x_hat) - H dx.
+  Vector3 r = c.p_body - h;
+  for (int k = 0; k < 3; ++k) r.noalias() -= Hblock(k) * dx.segment<3>(cols[k]);
+  dx.noalias() += K * r;
+
+  // Joseph form (I - K H) P (I - K H)^T + K Cov K^T with A = (I - K H) P = P - K (P H^T)^T:
+  // P = A - (A H^T) K^T + K Cov K^T = A + (K Cov - A H^T) K^T, two rank-3 products.
+  Matrix27 A = P_;
+  A.noalias() -= K.lazyProduct(PHt.transpose());
+  Matrix27x3 B = K.lazyProduct(c.cov);  // K Cov - A H^T
+  for (int k = 0; k < 3; ++k)
+    B.noalias() -= A.middleCols<3>(cols[k]).lazyProduct(Hblock(k).transpose());
+  A.noalias() += B.lazyProduct(K.transpose());
+  P_ = 0.5 * (A + A.transpose());
+}
+
+void Eskf::inject(const Vector27& dx) {
+  x_ = x_.plus(dx);  // x_hat <- x_hat (+) dx_hat
+  // Reset: P <- G P G^T, G = blockdiag(I - [dtheta_hat / 2]_x, I, ...): only the dtheta rows and
+  // columns change.
+  const Matrix3 G = Matrix3::Identity() - lie::hat3(Vector3(0.5 * dx.segment<3>(kTheta)));
+  Eigen::Matrix<double, 3, kDim> rows;
+  rows.noalias() = G * P_.middleRows<3>(kTheta);
+  Matrix3 P_tt;
+  P_tt.noalias() = rows.middleCols<3>(kTheta) * G.transpose();
+  P_.middleRows<3>(kTheta) = rows;
+  P_.middleCols<3>(kTheta) = rows.transpose();
+  P_.block<3, 3>(kTheta, kTheta) = 0.5 * (P_tt + P_tt.transpose());
+}
+
+void Eskf::initialiseFoot(int i, const ContactMeasurement& c) {
+  const int d = eskf::footIndex(i);
+  const Matrix3& R = x_.R.matrix();
+  x_.d[i] = x_.p + R * c.p_body;  // d_i = p + R z_i
+  // dd_i = J_theta dtheta + dp + R n,  J_theta = -R [z_i]_x.
+  const Matrix3 J_theta = -R * lie::hat3(c.p_body);
+  Eigen::Matrix<double, 3, kDim> M;  // the new rows of P: J P over (dtheta, dp)
+  M.noalias() = J_theta * P_.middleRows<3>(kTheta);
+  M += P_.middleRows<3>(kP);
+  Matrix3 P_dd = M.middleCols<3>(kP) + R * c.cov * R.transpose();
+  P_dd.noalias() += M.middleCols<3>(kTheta) * J_theta.transpose();
+  P_.middleRows<3>(d) = M;
+  P_.middleCols<3>(d) = M.transpose();
+  P_.block<3, 3>(d, d) = 0.5 * (P_dd + P_dd.transpose());
+}
+
+void Eskf::step(const StepInput& in) {
+  validate(in);  // throws before anything changes
+
+  if (has_previous_ && in.dt > 0.0) predict(in.dt);
+
+  // Feet in stance at the previous sample and now are measurements; the others touch down.
+  Vector27 dx = Vector27::Zero();
+  bool updated = false;
+  for (const ContactMeasurement& c : in.stance()) {
+    if (!in_contact_[c.foot]) continue;
+    updateFoot(c.foot, c, dx);
+    updated = true;
+  }
+  if (updated) inject(dx);
+
+  std::array<bool, kFeet> stance{};
+  for (const ContactMeasurement& c : in.stance()) {
+    stance[c.foot] = true;
+    if (!in_contact_[c.foot]) initialiseFoot(c.foot, c);
+  }
+  in_contact_ = stance;
+  previous_ = in.imu;
+  has_previous_ = true;
+  t_ = in.t;
+}
+
+EstimateSample Eskf::estimate() const {
+  return {t_, x_.R.quaternion(), x_.v, x_.p};
+}
+
+std::optional<BaseCovariance> Eskf::covariance() const {
+  // e = J dx on (dtheta, dv, dp), J = blockdiag(R_hat, I, I).
+  const Matrix3& R = x_.R.matrix();
+  BaseCovariance cov;
+  cov.P = P_.topLeftCorner<9, 9>();
+  cov.P.topRows<3>() = (R * cov.P.topRows<3>()).eval();
+  cov.P.leftCols<3>() = (cov.P.leftCols<3>() * R.transpose()).eval();
+  cov.has_attitude = true;
+  return cov;
+}
+
+}  // namespace legkit::invariant

@@ -1,0 +1,188 @@
+// The error-state (multiplicative) extended Kalman filter of section 57.5, the classic filter of
+// FAST-LIO2-style systems, for a quadruped: IMU-driven prediction, one foot-position measurement
+// per stance foot.
+//
+// Nominal state and error state. The filter carries a nominal state
+//   x = (R, v, p, d_1..d_4, b_g, b_a)
+// (attitude body to world, world velocity and position, the four feet in the world, gyro and
+// accelerometer biases) and a Gaussian on the small error between it and the truth, 27 numbers:
+//   dx = (dtheta, dv, dp, dd_1..dd_4, db_g, db_a),   R = R_hat Exp(dtheta)   (local, body frame)
+// and every other component additive (v = v_hat + dv, ...). The error's mean is zero between
+// updates; only its covariance P (27 x 27) is propagated.
+//
+// Prediction. The nominal state follows the strapdown equations with the previous IMU sample
+// held over dt, w = w_m - b_g and f = a_m - b_a, integrated exactly for constant input:
+//   R+ = R Exp(w dt),  v+ = v + R Gamma_1(w dt) f dt + g dt,
+//   p+ = p + v dt + R Gamma_2(w dt) f dt^2 + g dt^2 / 2,   d, b_g, b_a unchanged.
+// The error obeys, to first order (continuous time, noises n_g, n_a, random walks n_*):
+//   d(dtheta)/dt = -[w]_x dtheta - db_g - n_g
+//   d(dv)/dt     = -R_hat [f]_x dtheta - R_hat db_a - R_hat n_a
+//   d(dp)/dt     = dv
+//   d(dd_i)/dt   = n_d,i,   d(db_g)/dt = n_bg,   d(db_a)/dt = n_ba
+// i.e. d(dx)/dt = F(x_hat, u) dx + G n. F depends on the estimate (R_hat, b_hat) and on the
+// measured input: this is the section's point of comparison with the invariant EKF, whose A
+// (lie/imu_dynamics.hpp) is constant on the navigation block.
+//
+// Discretisation. Phi is not the first-order I + F dt: it is the exact Jacobian of the discrete
+// nominal step above with respect to the error (the derivative of x+(x_hat (+) dx) (-) x+(x_hat)
+// at dx = 0), built in closed form from Exp, Gamma_1, Gamma_2, Jr and the derivatives of
+// Gamma_m(phi) f (lie::imu::dGammaTimesVector). It agrees with I + F dt to first order in dt;
+// the difference (terms like -R_hat [f]_x dtheta dt^2 / 2 in dp) is what a first-order ESKF
+// drops. Phi is the identity except on the rows (dtheta, dv, dp), which depend on
+// (dtheta, dv, dp) and (db_g, db_a) only; the filter uses that structure
+// (P <- Phi P Phi^T touches only 9 rows and columns).
+// Process noise from the continuous densities (model::ImuNoise): sigma_g^2 dt on dtheta; per axis
+// sigma_a^2 [[dt, dt^2/2], [dt^2/2, dt^3/3]] on (dv, dp) (white acceleration integrated once and
+// twice); sigma_bg^2 dt, sigma_ba^2 dt on the biases; sigma_d^2 dt on each foot, with
+// sigma_d = foot_stance_density in stance (the foot may slip a little) and foot_swing_density in
+// swing (the foot moves freely). The noises are isotropic, so R_hat drops out of R_hat n_a.
+//
+// Measurement of a stance foot i: the leg kinematics give the foot in the body frame,
+//   z_i = h_i(x) + n,   h_i(x) = R^T (d_i - p),   n ~ N(0, Cov_i)   (the ContactMeasurement).
+// With R = R_hat Exp(dtheta), R^T = Exp(-dtheta) R_hat^T, so h_i = h_hat + [h_hat]_x dtheta and
+//   H_i = [ [h_hat]_x  (dtheta),  -R_hat^T (dp),  R_hat^T (dd_i) ],  zero elsewhere.
+// The feet are processed one after the other (3 x 3 innovations), all linearised at the same
+// predicted nominal state, which equals one stacked update. Covariance update in Joseph form,
+//   P <- (I - K H) P (I - K H)^T + K Cov K^T,
+// computed with H's nine non-zero columns only (each foot is a few rank-3 products, not 27 x 27
+// matrix products).
+//
+// Injection and reset. After the updates the error mean dx_hat is moved into the nominal state,
+// x_hat <- x_hat (+) dx_hat (R_hat <- R_hat Exp(dtheta_hat), the rest added), and the error is
+// reset to zero. The new error is dtheta+ = dtheta - dtheta_hat - [dtheta_hat/2]_x dtheta to
+// first order, so P <- G P G^T with G = blockdiag(I - [dtheta_hat/2]_x, I, ..., I).
+//
+// Contacts. A foot that touches down (in stance now, not at the previous sample) is
+// re-initialised from the kinematics after the update: d_i = p_hat + R_hat z_i, and its rows of P
+// become those of that function of the state, dd_i = dp - R_hat [z_i]_x dtheta + R_hat n, i.e.
+// correlated with attitude and position and with Cov_i added. Its measurement at touchdown is
+// used only for that (using it again as an update would count it twice). A foot in stance at two
+// consecutive samples is a measurement. At reset the feet are unknown (weak prior
+// foot_init_sigma) and every foot is out of contact.
+//
+// covariance() maps the local attitude error to the kit's world-frame convention:
+// R = R_hat Exp(dtheta) = Exp(R_hat dtheta) R_hat, so dtheta_w = R_hat dtheta; v and p are
+// additive in both.
+//
+// All matrices are fixed-size Eigen: step() never allocates.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <optional>
+
+#include "estimation/estimator.hpp"
+#include "lie/so3.hpp"
+#include "model/imu_model.hpp"
+#include "model/imu_noise.hpp"
+
+namespace legkit::invariant {
+
+namespace eskf {
+
+constexpr int kFeet = 4;                 // d_1..d_4 (quadruped: FL FR RL RR)
+constexpr int kDim = 9 + 3 * kFeet + 6;  // 27: the error state
+// Offsets of the blocks in the error vector.
+constexpr int kTheta = 0, kV = 3, kP = 6, kD = 9, kBg = 9 + 3 * kFeet, kBa = kBg + 3;
+constexpr int footIndex(int i) {
+  return kD + 3 * i;
+}
+
+using Vector27 = Eigen::Matrix<double, kDim, 1>;
+using Matrix27 = Eigen::Matrix<double, kDim, kDim>;
+using Matrix39 = Eigen::Matrix<double, 3, 9>;
+
+struct State {
+  lie::SO3d R;                                    // body to world
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();    // world velocity [m/s]
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();    // world position [m]
+  std::array<Eigen::Vector3d, kFeet> d{};         // world foot positions [m]
+  Eigen::Vector3d b_g = Eigen::Vector3d::Zero();  // gyro bias [rad/s]
+  Eigen::Vector3d b_a = Eigen::Vector3d::Zero();  // accelerometer bias [m/s^2]
+
+  // x (+) dx: R Exp(dtheta), the rest added (the injection of an error into the nominal state).
+  State plus(const Vector27& dx) const;
+  // x (-) y: the dx with y (+) dx = x (Log(R_y^T R_x) for the attitude).
+  Vector27 minus(const State& y) const;
+};
+
+// The nominal step over dt with the IMU sample u held constant (file comment), exact.
+State propagate(const State& x, const model::ImuReading& u, double dt,
+                const Eigen::Vector3d& g = model::gravity());
+
+// F of d(dx)/dt = F dx + G n at the estimate x and input u (file comment): the chapter's
+// state-dependent error dynamics, for analysis and teaching (the filter uses Phi below).
+Matrix27 errorDynamics(const State& x, const model::ImuReading& u);
+
+// Phi = d(propagate(x (+) dx) (-) propagate(x)) / d(dx) at dx = 0. Only the rows
+// (dtheta, dv, dp) differ from the identity, and they depend only on (dtheta, dv, dp) and
+// (db_g, db_a): those two blocks are all that is stored.
+struct Transition {
+  Eigen::Matrix<double, 9, 9> nav;   // rows (dtheta, dv, dp) x columns (dtheta, dv, dp)
+  Eigen::Matrix<double, 9, 6> bias;  // rows (dtheta, dv, dp) x columns (db_g, db_a)
+  Matrix27 matrix() const;           // the full 27 x 27 Phi
+};
+Transition transition(const State& x, const model::ImuReading& u, double dt);
+
+// h_i(x) = R^T (d_i - p), the stance foot i in the body frame, and its 3 x 9 Jacobian over
+// (dtheta, dp, dd_i) (zero on every other block of the error).
+Eigen::Vector3d footInBody(const State& x, int i, Matrix39* H = nullptr);
+
+}  // namespace eskf
+
+struct EskfParams {
+  model::ImuNoise imu = model::ImuNoise::go2();  // continuous densities
+  // A stance foot's slip random walk [m/sqrt(s)]. The simulator's feet do not slip; 1 mm/sqrt(s)
+  // is a small allowance for a real robot's (0.01 makes the filter visibly under-confident on
+  // the default trot: ANEES 5.6 for 9 dof, see the NEES tests).
+  double foot_stance_density = 1e-3;
+  double foot_swing_density = 2.0;  // a swing foot's random walk [m/sqrt(s)]
+  double foot_init_sigma = 1.0;     // prior of the (unknown) feet at reset [m]
+  // Prior of the state at reset (standard deviations; attitude per axis, local frame).
+  double sigma_attitude = 0.01;    // [rad]
+  double sigma_velocity = 0.05;    // [m/s]
+  double sigma_position = 0.01;    // [m]
+  double sigma_gyro_bias = 0.002;  // [rad/s]
+  double sigma_accel_bias = 0.02;  // [m/s^2]
+  Eigen::Vector3d gravity = model::gravity();
+};
+
+class Eskf final : public Estimator {
+ public:
+  // Throws std::invalid_argument for a negative noise density, a non-positive prior sigma or a
+  // non-finite gravity.
+  explicit Eskf(const EskfParams& params = {});
+
+  std::string name() const override { return "eskf"; }
+  // Base from x0, biases zero, feet unknown and out of contact; P from the Params sigmas.
+  void reset(const EstimateSample& x0) override;
+  // Prediction over in.dt with the previous IMU sample, then the stance feet. Throws
+  // std::invalid_argument (and leaves the state untouched) for a non-finite time, IMU reading or
+  // contact, a negative dt, a contact count out of range, a foot id out of range or repeated, or
+  // a contact covariance that is not symmetric positive definite.
+  void step(const StepInput& in) override;
+  EstimateSample estimate() const override;
+  // The (dtheta_w, dv, dp) block of P with the attitude error mapped to the world frame.
+  std::optional<BaseCovariance> covariance() const override;
+
+  const eskf::State& state() const { return x_; }
+  const eskf::Matrix27& P() const { return P_; }
+  bool inContact(int i) const { return in_contact_[i]; }
+
+ private:
+  void validate(const StepInput& in) const;
+  void predict(double dt);
+  void updateFoot(int i, const ContactMeasurement& c, eskf::Vector27& dx);
+  void inject(const eskf::Vector27& dx);
+  void initialiseFoot(int i, const ContactMeasurement& c);
+
+  EskfParams params_;
+  eskf::State x_;
+  eskf::Matrix27 P_ = eskf::Matrix27::Identity();  // covariance of the error dx
+  std::array<bool, eskf::kFeet> in_contact_{};
+  double t_ = 0.0;
+  model::ImuReading previous_;
+  bool has_previous_ = false;
+};
+
+}  // namespace legkit::invariant
