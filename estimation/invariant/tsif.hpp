@@ -56,7 +56,7 @@
 // prior foot_init_sigma, so only this step's kinematics residual decides where it is.
 //
 // At the first sample (dt = 0, no previous IMU reading) there is no pair to solve: the filter
-// stores the reading and re-initialises the feet in contact.
+// stores the reading and re-initialises the feet in contact (likewise for any later dt = 0).
 //
 // Numerics: at 1 kHz the IMU weight on position, 12 / (sigma_a^2 dt^3), is about 1e13, while a
 // swing foot's information is of order 1: the information form is badly scaled by nature.
@@ -151,7 +151,8 @@ class Tsif final : public Estimator {
   // One two-state Gauss-Newton solve and marginalisation. Throws std::invalid_argument (and
   // leaves the state untouched) for a non-finite time, IMU reading or contact, a negative dt,
   // a foot id out of range or repeated, or a contact covariance that is not symmetric positive
-  // definite.
+  // definite; std::runtime_error (state untouched too) if the normal equations are numerically
+  // not positive definite.
   void step(const StepInput& in) override;
   EstimateSample estimate() const override;
   // The (dtheta_w, dv, dp) block of Lambda^-1, attitude mapped to the world frame.
