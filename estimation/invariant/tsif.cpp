@@ -222,20 +222,23 @@ void Tsif::validate(const StepInput& in) const {
   }
   std::array<bool, kFeet> seen{};
   for (const ContactMeasurement& c : in.stance()) {
-    const std::string foot = "contact of foot " + std::to_string(c.foot);
+    // The message is built only on failure: the happy path must not allocate.
+    const auto failFoot = [&](const char* what) {
+      fail(in.t, "contact of foot " + std::to_string(c.foot) + ": " + what);
+    };
     if (c.foot < 0 || c.foot >= kFeet) {
       fail(in.t, "foot id " + std::to_string(c.foot) + " is out of range [0, " +
                      std::to_string(kFeet) + ")");
     }
-    if (seen[c.foot]) fail(in.t, foot + " appears twice");
+    if (seen[c.foot]) failFoot("appears twice");
     seen[c.foot] = true;
-    if (!c.p_body.allFinite()) fail(in.t, foot + ": p_body is not finite");
-    if (!c.cov.allFinite()) fail(in.t, foot + ": covariance is not finite");
+    if (!c.p_body.allFinite()) failFoot("p_body is not finite");
+    if (!c.cov.allFinite()) failFoot("covariance is not finite");
     if ((c.cov - c.cov.transpose()).norm() > 1e-9 * (1.0 + c.cov.norm())) {
-      fail(in.t, foot + ": covariance is not symmetric");
+      failFoot("covariance is not symmetric");
     }
     if (Eigen::LLT<Eigen::Matrix3d>(c.cov).info() != Eigen::Success) {
-      fail(in.t, foot + ": covariance is not positive definite");
+      failFoot("covariance is not positive definite");
     }
   }
 }

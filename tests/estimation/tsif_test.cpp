@@ -3,8 +3,11 @@
 #include <catch2/catch.hpp>
 
 #include <Eigen/Eigenvalues>
+#include <atomic>
+#include <cstdlib>
 #include <functional>
 #include <limits>
+#include <new>
 #include <random>
 
 #include "estimation/invariant/tsif.hpp"
@@ -15,6 +18,31 @@
 #include "lie/imu_dynamics.hpp"
 #include "lie/sek3.hpp"
 #include "sim/simulator.hpp"
+
+// Counts every heap allocation of this program, to show that Tsif::step makes none.
+namespace {
+std::atomic<long> g_allocations{0};
+}
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) {
+  return operator new(size);
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  std::free(p);
+}
 
 using namespace legkit;
 using namespace legkit::invariant;
@@ -233,6 +261,21 @@ TEST_CASE("TSIF: a noiseless trot is tracked", "[57.5][tsif]") {
     CHECK(m.tilt_rmse_deg < 0.05);
     CHECK(m.yaw_rmse_deg < 0.05);
     for (int i = 0; i < tsif::kFeet; ++i) CHECK(filter.inContact(i) == log.rows.back().contact[i]);
+  }
+}
+
+TEST_CASE("TSIF: step() never allocates", "[57.5][tsif]") {
+  const io::Log log = trotLog(1.5, 8, false);
+  const std::vector<StepInput> inputs = inputsOf(log);
+  for (const int iterations : {1, 2}) {
+    TsifParams params;
+    params.iterations = iterations;
+    Tsif filter(params);
+    filter.reset(eval::initialState(log));
+    const long before = g_allocations.load();
+    for (const StepInput& in : inputs) filter.step(in);
+    CHECK(g_allocations.load() - before == 0);
+    CHECK(filter.inContact(0) == log.rows.back().contact[0]);  // it did run, through touchdowns
   }
 }
 
