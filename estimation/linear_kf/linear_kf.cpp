@@ -1,1 +1,302 @@
-// placeholder, being written (issue 4)
+#include "estimation/linear_kf/linear_kf.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <lie/so3.hpp>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "estimation/leg_odometry/base_velocity.hpp"
+
+namespace legkit::linear_kf {
+namespace {
+
+void require(bool ok, const char* what) {
+  if (!ok) throw std::invalid_argument(std::string("LinearKf: ") + what);
+}
+
+[[noreturn]] void reject(double t, const std::string& what) {
+  std::ostringstream os;
+  os << "LinearKf::step at t = " << t << ": " << what;
+  throw std::invalid_argument(os.str());
+}
+
+// Finite, symmetric to 1e-9 relative, and positive definite (its Cholesky factor exists).
+bool isCovariance(const Eigen::Matrix3d& C) {
+  if (!C.allFinite() || (C - C.transpose()).cwiseAbs().maxCoeff() > 1e-9 * (1.0 + C.norm()))
+    return false;
+  return Eigen::LLT<Eigen::Matrix3d>(C).info() == Eigen::Success;
+}
+
+}  // namespace
+
+// -- The model's matrices ----------------------------------------------------------------------
+
+Eigen::Matrix<double, 6, 3> inputMatrix(double dt) {
+  Eigen::Matrix<double, 6, 3> B;
+  B << 0.5 * dt * dt * Eigen::Matrix3d::Identity(), dt * Eigen::Matrix3d::Identity();
+  return B;
+}
+
+Matrix6 navigationNoise(double dt, const Eigen::Matrix3d& Sigma_u) {
+  // B Sigma_u B^T with B = [dt^2/2 I; dt I]
+  const double h = 0.5 * dt * dt;
+  Matrix6 Q;
+  Q << h * h * Sigma_u, h * dt * Sigma_u, h * dt * Sigma_u, dt * dt * Sigma_u;
+  return Q;
+}
+
+double footNoiseVariance(double dt, bool in_stance, const ProcessNoise& noise) {
+  const double sigma_d = in_stance ? noise.foot_stance_density : noise.foot_swing_density;
+  return sigma_d * sigma_d * dt;  // random walk: sigma_d^2 dt
+}
+
+ProcessModel processModel(double dt, const ContactMask& contact, const ProcessNoise& noise) {
+  if (!(dt > 0.0) || !std::isfinite(dt))
+    throw std::invalid_argument("processModel: dt must be positive and finite");
+  if (!(noise.accel_density >= 0.0 && noise.foot_stance_density >= 0.0 &&
+        noise.foot_swing_density >= 0.0))
+    throw std::invalid_argument("processModel: noise densities must be non-negative");
+  ProcessModel m;
+  m.F.setIdentity();
+  m.F.block<3, 3>(kP, kV) = dt * Eigen::Matrix3d::Identity();  // p <- p + v dt
+  m.B.setZero();
+  m.B.topRows<6>() = inputMatrix(dt);
+  m.Q.setZero();
+  const double sa2 = noise.accel_density * noise.accel_density;
+  m.Q.topLeftCorner<6, 6>() = navigationNoise(dt, sa2 / dt * Eigen::Matrix3d::Identity());
+  for (int i = 0; i < kFeet; ++i)
+    m.Q.block<3, 3>(footIndex(i), footIndex(i))
+        .diagonal()
+        .setConstant(footNoiseVariance(dt, contact[i], noise));
+  return m;
+}
+
+Matrix3x18 footMeasurementMatrix(int i) {
+  if (i < 0 || i >= kFeet)
+    throw std::invalid_argument("footMeasurementMatrix: foot id " + std::to_string(i) +
+                                " is outside 0..3");
+  Matrix3x18 H = Matrix3x18::Zero();
+  H.block<3, 3>(0, kP) = -Eigen::Matrix3d::Identity();
+  H.block<3, 3>(0, footIndex(i)) = Eigen::Matrix3d::Identity();
+  return H;
+}
+
+Matrix3x18 velocityMeasurementMatrix() {
+  Matrix3x18 H = Matrix3x18::Zero();
+  H.block<3, 3>(0, kV) = Eigen::Matrix3d::Identity();
+  return H;
+}
+
+Eigen::Matrix3d footMeasurementNoise(const Eigen::Matrix3d& R_hat, const Eigen::Vector3d& r,
+                                     const Eigen::Matrix3d& cov_r,
+                                     const Eigen::Matrix3d& Sigma_theta) {
+  const Eigen::Matrix3d z_x = lie::hat3(Eigen::Vector3d(R_hat * r));
+  return R_hat * cov_r * R_hat.transpose() + z_x * Sigma_theta * z_x.transpose();
+}
+
+void josephUpdate(Matrix18& P, const Matrix18x3& K, const Matrix18x3& N, const Eigen::Matrix3d& S) {
+  // (I - K H) P (I - K H)^T + K R K^T = P - K N^T - N K^T + K S K^T = P + K V^T + V K^T
+  // (K V^T + V K^T is formed before it is added, so that P stays exactly symmetric.)
+  const Matrix18x3 V = 0.5 * K * S - N;
+  Matrix18 W;
+  W.noalias() = K * V.transpose();
+  P += W + W.transpose();
+}
+
+// -- The filter --------------------------------------------------------------------------------
+
+LinearKf::LinearKf(const LinearKfParams& params) : params_(params), attitude_(params.attitude) {
+  const LinearKfParams& p = params;
+  require(p.imu.accel_noise_density >= 0.0 && p.imu.gyro_noise_density >= 0.0,
+          "IMU noise densities must be non-negative");
+  require(
+      p.foot_stance_density >= 0.0 && p.foot_swing_density >= 0.0 && p.foot_velocity_sigma >= 0.0,
+      "foot densities and foot_velocity_sigma must be non-negative");
+  require(p.sigma_position > 0.0 && p.sigma_velocity > 0.0 && p.foot_init_sigma > 0.0,
+          "prior sigmas must be positive");
+  require(p.attitude_correlation_time > 0.0, "attitude_correlation_time must be positive");
+  require(p.accel_compensation_time >= 0.0, "accel_compensation_time must be non-negative");
+  require(p.gravity.allFinite() && p.b_a.allFinite(), "gravity and b_a must be finite");
+  reset(EstimateSample{});
+}
+
+void LinearKf::reset(const EstimateSample& x0) {
+  attitude_.reset(lie::SO3d::fromQuaternion(x0.q));
+  x_.setZero();
+  x_.segment<3>(kP) = x0.p;
+  x_.segment<3>(kV) = x0.v;
+  for (int i = 0; i < kFeet; ++i) x_.segment<3>(footIndex(i)) = x0.p;
+  const double sp2 = params_.sigma_position * params_.sigma_position;
+  const double sv2 = params_.sigma_velocity * params_.sigma_velocity;
+  const double sf2 = params_.foot_init_sigma * params_.foot_init_sigma;
+  P_.setZero();
+  P_.diagonal() << Eigen::Vector3d::Constant(sp2), Eigen::Vector3d::Constant(sv2),
+      Eigen::Matrix<double, 3 * kFeet, 1>::Constant(sf2);
+  a_w_.setZero();
+  previous_contact_.fill(false);
+  has_previous_ = false;
+  t_ = x0.t;
+}
+
+void LinearKf::validate(const StepInput& in) const {
+  const double t = in.t;
+  if (!std::isfinite(t)) reject(t, "time t is not finite");
+  if (!std::isfinite(in.dt) || in.dt < 0.0) {
+    std::ostringstream os;
+    os << "dt must be finite and non-negative, got " << in.dt;
+    reject(t, os.str());
+  }
+  if (!in.imu.w_m.allFinite()) reject(t, "gyro reading w_m is not finite");
+  if (!in.imu.a_m.allFinite()) reject(t, "accelerometer reading a_m is not finite");
+  if (in.num_contacts < 0 || in.num_contacts > kFeet) {
+    std::ostringstream os;
+    os << "num_contacts = " << in.num_contacts << " is outside 0..4";
+    reject(t, os.str());
+  }
+  ContactMask seen{};
+  for (const ContactMeasurement& c : in.stance()) {
+    // The message is only built on failure (step() must not allocate).
+    const auto fail = [&](const char* what) {
+      reject(t, "contact of foot " + std::to_string(c.foot) + ": " + what);
+    };
+    if (c.foot < 0 || c.foot >= kFeet) fail("foot id is outside 0..3");
+    if (seen[c.foot]) fail("foot appears twice");
+    seen[c.foot] = true;
+    if (!c.p_body.allFinite()) fail("p_body is not finite");
+    if (!isCovariance(c.cov)) fail("covariance is not symmetric positive definite (or not finite)");
+    if (c.v_body && !c.v_body->allFinite()) fail("v_body is not finite");
+  }
+}
+
+void LinearKf::step(const StepInput& in) {
+  validate(in);  // throws before anything changes
+  const Eigen::Vector3d v_before = x_.segment<3>(kV);
+  if (has_previous_ && in.dt > 0.0) {
+    // u = R_hat (a_m - b_a) + g with the attitude at the start of the interval (zero-order hold).
+    const Eigen::Vector3d f_w = attitude_.R() * (previous_.a_m - params_.b_a);
+    attitude_.propagate(previous_, in.dt, a_w_);
+    predict(in.dt, f_w);
+  }
+  const Eigen::Matrix3d Sigma_theta =
+      params_.model_attitude_error ? attitude_.attitudeCovariance() : Eigen::Matrix3d::Zero();
+  ContactMask contact{};
+  for (const ContactMeasurement& c : in.stance()) {
+    updateFoot(c, Sigma_theta);
+    contact[c.foot] = true;
+  }
+  if (params_.use_leg_velocity && in.dt > 0.0) updateVelocity(in, Sigma_theta);
+  if (params_.accel_compensation_time > 0.0 && has_previous_ && in.dt > 0.0) {
+    // a_w <- a_w + (dv / dt - a_w) dt / T: first-order low-pass of the velocity's rate of change.
+    const double T = std::max(params_.accel_compensation_time, in.dt);
+    a_w_ += (x_.segment<3>(kV) - v_before - a_w_ * in.dt) / T;
+  }
+  previous_contact_ = contact;
+  previous_ = in.imu;
+  has_previous_ = true;
+  t_ = in.t;
+}
+
+void LinearKf::predict(double dt, const Eigen::Vector3d& f_w) {
+  // x+ = F x + B u:  p += v dt + u dt^2/2,  v += u dt,  feet unchanged.
+  const Eigen::Vector3d u = f_w + params_.gravity;
+  x_.segment<3>(kP) += dt * x_.segment<3>(kV) + 0.5 * dt * dt * u;
+  x_.segment<3>(kV) += dt * u;
+
+  // F P F^T with F = I + dt E, E taking v into p: only the rows and columns of p change,
+  //   P_pp <- P_pp + dt (P_pv + P_vp) + dt^2 P_vv,   P_pj <- P_pj + dt P_vj (j not p),
+  // written so that P stays exactly symmetric.
+  const Eigen::Matrix3d P_pv = P_.block<3, 3>(kP, kV);
+  P_.block<3, 3>(kP, kP) += dt * (P_pv + P_pv.transpose()) + (dt * dt) * P_.block<3, 3>(kV, kV);
+  P_.block<3, kDim - 3>(kP, kV) += dt * P_.block<3, kDim - 3>(kV, kV);
+  P_.block<kDim - 3, 3>(kV, kP) = P_.block<3, kDim - 3>(kP, kV).transpose();
+
+  // + Q: navigation block B Sigma_u B^T, then each foot's random walk.
+  const double sa2 = params_.imu.accel_noise_density * params_.imu.accel_noise_density;
+  Eigen::Matrix3d Sigma_u = Eigen::Matrix3d::Identity() * (sa2 / dt);
+  if (params_.model_attitude_error) {
+    // The input is off by [f_w]_x theta, a correlated error: white density 2 tau C.
+    const Eigen::Matrix3d f_x = lie::hat3(f_w);
+    const Eigen::Matrix3d C = f_x * attitude_.attitudeCovariance() * f_x.transpose();
+    Sigma_u += (params_.attitude_correlation_time / dt) * (C + C.transpose());  // 2 tau C / dt
+  }
+  P_.topLeftCorner<6, 6>() += navigationNoise(dt, Sigma_u);
+  const ProcessNoise noise = params_.processNoise();
+  for (int i = 0; i < kFeet; ++i) {
+    const int d = footIndex(i);
+    P_.block<3, 3>(d, d).diagonal().array() += footNoiseVariance(dt, previous_contact_[i], noise);
+  }
+}
+
+void LinearKf::update(const Matrix18x3& N, const Eigen::Matrix3d& S, const Eigen::Vector3d& y) {
+  const Matrix18x3 K = N * S.inverse();  // K = P H^T S^-1
+  x_.noalias() += K * y;
+  josephUpdate(P_, K, N, S);
+}
+
+void LinearKf::updateFoot(const ContactMeasurement& c, const Eigen::Matrix3d& Sigma_theta) {
+  const int d = footIndex(c.foot);
+  const Eigen::Matrix3d& R_hat = attitude_.R().matrix();
+  // z_i = R_hat r_i, predicted d_i - p; H_i = [-I ... I ...] makes N = P H^T a column difference.
+  const Eigen::Vector3d y = R_hat * c.p_body - (x_.segment<3>(d) - x_.segment<3>(kP));
+  const Matrix18x3 N = P_.middleCols<3>(d) - P_.middleCols<3>(kP);
+  const Eigen::Matrix3d S = N.middleRows<3>(d) - N.middleRows<3>(kP) +
+                            footMeasurementNoise(R_hat, c.p_body, c.cov, Sigma_theta);
+  update(N, S, y);
+}
+
+void LinearKf::updateVelocity(const StepInput& in, const Eigen::Matrix3d& Sigma_theta) {
+  // The stance feet's mean base velocity = the velocity from a virtual foot at their centroid.
+  Eigen::Vector3d r_bar = Eigen::Vector3d::Zero(), r_dot_bar = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d cov_r_bar = Eigen::Matrix3d::Zero();
+  int k = 0;
+  for (const ContactMeasurement& c : in.stance()) {
+    if (!c.v_body) continue;
+    r_bar += c.p_body;
+    r_dot_bar += *c.v_body;
+    cov_r_bar += c.cov;
+    ++k;
+  }
+  if (k == 0) return;
+  r_bar /= k;
+  r_dot_bar /= k;
+  cov_r_bar /= static_cast<double>(k * k);  // Cov(mean) = sum Cov(r_i) / k^2
+  const Eigen::Matrix3d& R_hat = attitude_.R().matrix();
+  const Eigen::Vector3d w = in.imu.w_m - attitude_.b_g();  // rate at this sample
+  leg_odometry::FootVelocityNoise noise;
+  const double sg = params_.imu.gyro_noise_density, sr = params_.foot_velocity_sigma;
+  noise.gyro_cov = Eigen::Matrix3d::Identity() * (sg * sg / in.dt);  // one gyro sample
+  noise.r_dot_cov = Eigen::Matrix3d::Identity() * (sr * sr / k);
+  // z_v = -R_hat (w x r_bar + r_dot_bar)
+  const Eigen::Vector3d z_v = leg_odometry::baseVelocityFromFoot(R_hat, w, r_bar, r_dot_bar);
+  const Eigen::Matrix3d z_x = lie::hat3(z_v);
+  const Eigen::Matrix3d R_v =
+      leg_odometry::baseVelocityCovariance(R_hat, w, r_bar, cov_r_bar, noise) +
+      z_x * Sigma_theta * z_x.transpose();
+  // H_v = [0 I 0 ...]: N = P's columns of v.
+  const Matrix18x3 N = P_.middleCols<3>(kV);
+  const Eigen::Matrix3d S = N.middleRows<3>(kV) + R_v;
+  update(N, S, z_v - x_.segment<3>(kV));
+}
+
+EstimateSample LinearKf::estimate() const {
+  return {t_, attitude_.R().quaternion(), x_.segment<3>(kV), x_.segment<3>(kP)};
+}
+
+std::optional<BaseCovariance> LinearKf::covariance() const {
+  // BaseCovariance order (theta, v, p); x order (p, v).
+  BaseCovariance cov;
+  cov.has_attitude = false;
+  cov.P.setZero();
+  cov.P.topLeftCorner<3, 3>() = attitude_.attitudeCovariance();
+  cov.P.block<3, 3>(3, 3) = P_.block<3, 3>(kV, kV);
+  cov.P.block<3, 3>(3, 6) = P_.block<3, 3>(kV, kP);
+  cov.P.block<3, 3>(6, 3) = P_.block<3, 3>(kP, kV);
+  cov.P.block<3, 3>(6, 6) = P_.block<3, 3>(kP, kP);
+  return cov;
+}
+
+}  // namespace legkit::linear_kf

@@ -1,0 +1,211 @@
+// The linear Kalman filter of section 57.4, in the style of the MIT Cheetah estimator
+// (Bledt, Di Carlo et al. 2018): attitude comes from a separate attitude filter and is treated as
+// a known input, which leaves a state whose dynamics and measurements are exactly linear.
+//
+// State (18 numbers, all in the world frame):
+//   x = [p, v, d_FL, d_FR, d_RL, d_RR]       base position, base velocity, the four feet.
+//
+// Prediction (zero-order hold of the previous IMU sample over dt, eq. x+ = F x + B u):
+//   u = R_hat (a_m - b_a_hat) + g           world acceleration from the accelerometer
+//   F = I + [0 I dt 0; 0 0 0; ...]          p <- p + v dt, everything else unchanged
+//   B = [dt^2/2 I; dt I; 0]                 the held acceleration integrated once and twice
+//   P <- F P F^T + Q
+// Process noise Q:
+//   - navigation block: the accelerometer's white noise is a sampled noise held over dt, so it
+//     enters exactly as the input does, B Sigma_u B^T with Sigma_u = sigma_a^2 / dt I (per axis
+//     [[dt^3/4, dt^2/2], [dt^2/2, dt]] sigma_a^2 on (p, v));
+//   - attitude error: u uses R_hat, not R. With R = Exp(theta) R_hat the input is off by
+//     [f_w]_x theta (f_w = R_hat (a_m - b_a), the specific force in the world). theta is the
+//     attitude filter's error, slowly varying with correlation time tau (about 1 / k_P); a
+//     correlated error of covariance C and correlation time tau integrates like a white noise of
+//     density 2 tau C, so Sigma_u gets 2 tau [f_w]_x Sigma_theta [f_w]_x^T / dt as well;
+//   - feet: sigma_d^2 dt I per foot (a random walk), with the density scheduled by contact: small
+//     in stance (the foot may slip a little), large in swing (the foot moves freely). Q over the
+//     interval (t_{k-1}, t_k] uses the contact flags of sample k-1, known when it starts.
+// Because F is the identity plus one dt block, F P F^T is done as two block additions (rows then
+// columns of p get dt times those of v), never as an 18 x 18 product.
+//
+// Measurement of stance foot i (leg kinematics, the body-frame foot position r_i = p_body):
+//   z_i = R_hat r_i = d_i - p + n_i,         H_i = [-I 0 ... I (at d_i) ... 0]
+//   R_i = R_hat Cov(r_i) R_hat^T + [z_i]_x Sigma_theta [z_i]_x^T
+// (the second term: R_hat r_i = Exp(-theta) R r_i is off by [z_i]_x theta). Swing feet: the
+// chapter gives them a huge R, which makes their gain K = 0. Skipping their update is the exact
+// limit of that (with K = 0 the Joseph update leaves x and P unchanged), cheaper and free of the
+// round-off a 1e4-sized R brings; the large swing process noise is what lets the first stance
+// measurement after touchdown place the foot, with a gain close to one on d_i.
+//
+// Optional velocity measurement (leg odometry, section 57.3), on by default: with the stance feet
+// that carry a body-frame velocity r_dot_i, the mean of their base velocities
+// v_i = -R_hat (w x r_i + r_dot_i) equals the velocity from one virtual foot at the centroid,
+//   z_v = -R_hat (w x r_bar + r_dot_bar),    r_bar = mean r_i,  r_dot_bar = mean r_dot_i,
+// with w = w_m - b_g_hat, so leg_odometry::baseVelocityFromFoot / baseVelocityCovariance give it
+// and its covariance directly, with Cov(r_bar) = sum Cov(r_i) / k^2, Cov(r_dot_bar) =
+// sigma_rdot^2 I / k, and the gyro sample noise sigma_g^2 / dt counted once (it is common to all
+// feet, so averaging does not reduce it), plus [z_v]_x Sigma_theta [z_v]_x^T. H_v = [0 I 0 ...].
+//
+// Covariance update in Joseph form, P <- (I - K H) P (I - K H)^T + K R K^T, expanded with
+// N = P H^T (18 x 3) and S = H N + R:
+//   K = N S^-1,   P <- P - K N^T - N K^T + K S K^T = P + K V^T + V K^T,   V = K S / 2 - N.
+// This is the Joseph expression term by term, so it keeps its defining property: an error in K
+// changes P only to second order (the short form P <- (I - K H) P does not), and the result is
+// symmetric by construction. The measurements are processed one 3 x 3 block at a time
+// (independent noises, so this equals one stacked update), each a rank-6 change of P that costs
+// about 2 x 18 x 18 x 3 multiply-adds; H's two identity blocks make N and S plain block
+// differences.
+//
+// Attitude. The filter owns an AttitudeFilter (attitude_filter.hpp) and steps it first, with the
+// same previous IMU sample. An accelerometer cannot tell a tilt from a horizontal acceleration,
+// and a tilt error is expensive here: pitch error times forward speed becomes a vertical velocity
+// error in every leg measurement. So the filter hands the attitude filter its own estimate of the
+// base's world acceleration, a_w = the change of v per step low-passed over
+// accel_compensation_time, and the attitude filter levels against a_m - R_hat^T a_w: the legs,
+// through v, tell it which part of a_m is motion. Its covariance Sigma_theta enters Q and R as
+// above.
+//
+// covariance() reports the (dv, dp) block in the kit's BaseCovariance order (theta, v, p), with
+// has_attitude = false; its attitude block holds the attitude filter's own covariance, not
+// correlated with the rest (for plots only).
+//
+// Everything is fixed-size Eigen: step() never allocates.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <optional>
+
+#include "estimation/estimator.hpp"
+#include "estimation/linear_kf/attitude_filter.hpp"
+#include "model/imu_model.hpp"
+#include "model/imu_noise.hpp"
+
+namespace legkit::linear_kf {
+
+constexpr int kFeet = 4;               // FL FR RL RR
+constexpr int kDim = 6 + 3 * kFeet;    // 18
+constexpr int kP = 0, kV = 3, kD = 6;  // offsets of p, v and the first foot in x
+// Offset of foot i (0..3) in x.
+constexpr int footIndex(int i) {
+  return kD + 3 * i;
+}
+
+using Vector18 = Eigen::Matrix<double, kDim, 1>;
+using Matrix18 = Eigen::Matrix<double, kDim, kDim>;
+using Matrix18x3 = Eigen::Matrix<double, kDim, 3>;
+using Matrix3x18 = Eigen::Matrix<double, 3, kDim>;
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
+using ContactMask = std::array<bool, kFeet>;  // true: foot in stance
+
+// Process-noise densities of the model (continuous time, discretised by the functions below).
+struct ProcessNoise {
+  double accel_density = 0.04;         // sigma_a [m/s^2/sqrt(Hz)], accelerometer white noise
+  double foot_stance_density = 0.001;  // sigma_d in stance [m/sqrt(s)]
+  double foot_swing_density = 10.0;    // sigma_d in swing [m/sqrt(s)] (the chapter's 1e2 m^2/s)
+};
+
+// The matrices of x+ = F x + B u, P+ = F P F^T + Q (file comment), dense, for teaching and the
+// exercises. The filter uses the same building blocks below without forming them.
+struct ProcessModel {
+  Matrix18 F;
+  Eigen::Matrix<double, kDim, 3> B;
+  Matrix18 Q;
+};
+// Throws std::invalid_argument for dt <= 0 or a negative density.
+ProcessModel processModel(double dt, const ContactMask& contact, const ProcessNoise& noise);
+
+// B's non-zero block, [dt^2/2 I; dt I] (rows p, v).
+Eigen::Matrix<double, 6, 3> inputMatrix(double dt);
+// Q's (p, v) block: B Sigma_u B^T for an input covariance Sigma_u (sigma_a^2 / dt I for the
+// accelerometer noise alone).
+Matrix6 navigationNoise(double dt, const Eigen::Matrix3d& Sigma_u);
+// Q's block of one foot is this times I: sigma_d^2 dt with the stance or swing density.
+double footNoiseVariance(double dt, bool in_stance, const ProcessNoise& noise);
+
+// H_i = [-I 0 ... I (columns of foot i) ... 0]. Throws std::invalid_argument for i outside 0..3.
+Matrix3x18 footMeasurementMatrix(int i);
+// H_v = [0 I 0 ... 0].
+Matrix3x18 velocityMeasurementMatrix();
+// The Joseph update for a 3-row measurement, given N = P H^T, S = H N + R and a gain K:
+//   P <- P + K V^T + V K^T,  V = K S / 2 - N,
+// which is (I - K H) P (I - K H)^T + K R K^T expanded, for any K (the filter passes N S^-1).
+void josephUpdate(Matrix18& P, const Matrix18x3& K, const Matrix18x3& N, const Eigen::Matrix3d& S);
+
+// R_i = R_hat Cov(r) R_hat^T + [R_hat r]_x Sigma_theta [R_hat r]_x^T.
+Eigen::Matrix3d footMeasurementNoise(const Eigen::Matrix3d& R_hat, const Eigen::Vector3d& r,
+                                     const Eigen::Matrix3d& cov_r,
+                                     const Eigen::Matrix3d& Sigma_theta);
+
+struct LinearKfParams {
+  // Sensor densities: the simulator's Go2-class IMU (model::ImuNoise::go2()).
+  model::ImuNoise imu = model::ImuNoise::go2();
+  // Feet: a foot that does not slip barely moves in stance (the simulator's feet never slip);
+  // a swing foot moves ~0.1 m in 0.2 s, far less than the swing density's 10 * sqrt(0.2) = 4.5 m.
+  double foot_stance_density = 0.001;  // [m/sqrt(s)]
+  double foot_swing_density = 10.0;    // [m/sqrt(s)]
+  // Accelerometer bias, assumed known (not estimated by this filter) [m/s^2].
+  Eigen::Vector3d b_a = Eigen::Vector3d::Zero();
+  // Leg-odometry velocity measurement (file comment) and the noise of the body-frame foot
+  // velocity r_dot per axis (encoder-rate noise through the leg Jacobian, ~0.01 rad/s * 0.3 m).
+  bool use_leg_velocity = true;
+  double foot_velocity_sigma = 0.005;  // [m/s]
+  // Account for the attitude filter's error in Q and R (file comment).
+  bool model_attitude_error = true;
+  double attitude_correlation_time = 1.0;  // tau [s], about 1 / k_P
+  // Give the attitude filter the base's world acceleration, a_w = the filter's velocity change
+  // per step low-passed with this time constant [s] (0: do not, plain accelerometer tilt).
+  double accel_compensation_time = 0.05;
+  // Prior standard deviations at reset (per axis).
+  double sigma_position = 0.01;   // [m]
+  double sigma_velocity = 0.05;   // [m/s]
+  double foot_init_sigma = 1.0;   // feet unknown until their first stance measurement [m]
+  AttitudeFilterParams attitude;  // the attitude filter the linear KF owns
+  Eigen::Vector3d gravity = model::gravity();
+
+  // The densities processModel() uses.
+  ProcessNoise processNoise() const {
+    return {imu.accel_noise_density, foot_stance_density, foot_swing_density};
+  }
+};
+
+class LinearKf final : public Estimator {
+ public:
+  // Throws std::invalid_argument for a negative density or sigma, a non-positive prior, a
+  // non-positive correlation time or a non-finite gravity (and whatever AttitudeFilter rejects).
+  explicit LinearKf(const LinearKfParams& params = {});
+
+  std::string name() const override { return "linear-kf"; }
+  // p, v from x0, feet unknown (at p, variance foot_init_sigma^2) and out of contact; the
+  // attitude filter from x0's attitude with zero gyro bias.
+  void reset(const EstimateSample& x0) override;
+  // Prediction over in.dt with the previous IMU sample (attitude filter first), then the stance
+  // feet and the leg-odometry velocity. Throws std::invalid_argument (state untouched) for a
+  // non-finite time, IMU reading or contact, a negative dt, a contact count out of range, a foot
+  // id out of range or repeated, or a contact covariance that is not symmetric positive definite.
+  void step(const StepInput& in) override;
+  EstimateSample estimate() const override;
+  std::optional<BaseCovariance> covariance() const override;
+
+  const Vector18& x() const { return x_; }
+  const Matrix18& P() const { return P_; }
+  const AttitudeFilter& attitude() const { return attitude_; }
+  const LinearKfParams& params() const { return params_; }
+
+ private:
+  void validate(const StepInput& in) const;
+  void predict(double dt, const Eigen::Vector3d& f_w);
+  // One 3-row measurement with N = P H^T (18 x 3), residual y, its S = H N + R.
+  void update(const Matrix18x3& N, const Eigen::Matrix3d& S, const Eigen::Vector3d& y);
+  void updateFoot(const ContactMeasurement& c, const Eigen::Matrix3d& Sigma_theta);
+  void updateVelocity(const StepInput& in, const Eigen::Matrix3d& Sigma_theta);
+
+  LinearKfParams params_;
+  AttitudeFilter attitude_;
+  Vector18 x_ = Vector18::Zero();
+  Eigen::Vector3d a_w_ = Eigen::Vector3d::Zero();  // low-passed world acceleration of the base
+  Matrix18 P_ = Matrix18::Identity();
+  ContactMask previous_contact_{};
+  model::ImuReading previous_;
+  bool has_previous_ = false;
+  double t_ = 0.0;
+};
+
+}  // namespace legkit::linear_kf
