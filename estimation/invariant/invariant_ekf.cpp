@@ -1,1 +1,414 @@
-// placeholder, being written (issue 4)
+#include "estimation/invariant/invariant_ekf.hpp"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <type_traits>
+
+#include "lie/imu_dynamics.hpp"
+
+namespace legkit::invariant {
+
+namespace inekf {
+
+namespace {
+using Matrix3 = Eigen::Matrix3d;
+using Vector3 = Eigen::Vector3d;
+}  // namespace
+
+Covariance Transition::matrix() const {
+  const Eigen::Index nav = B.rows();
+  Covariance Phi = Covariance::Identity(nav + 6, nav + 6);
+  Phi.block<3, 3>(3, 0) = v_phi;
+  Phi.block<3, 3>(6, 0) = p_phi;
+  Phi.block<3, 3>(6, 3) = p_v * Matrix3::Identity();
+  Phi.topRightCorner(nav, 6) = B;
+  return Phi;
+}
+
+Group propagateMean(const Group& X, const Vector3& w, const Vector3& a, const Vector3& g, double dt,
+                    Discretisation discretisation) {
+  if (discretisation == Discretisation::kExact) return lie::imu::propagate(X, w, a, g, dt);
+  // The reference's step: R+ = R Exp(w dt), v+ = v + (R a + g) dt, p+ = p + v dt + (R a + g)
+  // dt^2/2.
+  const Matrix3& R = X.R();
+  const Vector3 acceleration = R * a + g;
+  Group::Columns C = X.columns();
+  C.col(0) = X.col(0) + acceleration * dt;
+  C.col(1) = X.col(1) + X.col(0) * dt + 0.5 * acceleration * (dt * dt);
+  return Group(
+      lie::SO3d::fromQuaternion(Eigen::Quaterniond(R * lie::SO3d::Exp(Vector3(w * dt)).matrix())),
+      C);
+}
+
+Transition transition(const Group& X, const Group& X_next, const Vector3& w, const Vector3& a,
+                      const Vector3& g, double dt, Discretisation discretisation) {
+  Transition T;
+  const Matrix3 G = lie::hat3(g);
+  T.v_phi = G * dt;  // v <- phi: [g]_x dt
+  T.p_v = dt;        // p <- v: I dt
+  const Eigen::Index k = X.numCols();
+  T.B.setZero(3 + 3 * k, 6);
+  if (discretisation == Discretisation::kExact) {
+    T.p_phi = 0.5 * G * (dt * dt);  // p <- phi: [g]_x dt^2 / 2 (A^2 dt^2 / 2)
+    // B = -Ad_{X_next} J_u, Ad = [[R, 0], [[c_i]_x R, R]] applied block by block; J_u has rows
+    // (phi, v, p) only (lie::imu::incrementJacobian).
+    const auto J = lie::imu::incrementJacobian<Group>(k, w, a, dt);
+    const Matrix3& R = X_next.R();
+    const Eigen::Matrix<double, 3, 6> RJphi = R * J.topRows<3>();
+    T.B.topRows<3>() = -RJphi;
+    for (Eigen::Index i = 0; i < k; ++i) {
+      const Vector3 c = X_next.col(i);
+      T.B.middleRows<3>(3 + 3 * i).noalias() = -lie::hat3(c) * RJphi;
+      if (i < 2) T.B.middleRows<3>(3 + 3 * i).noalias() -= R * J.block<3, 6>(3 + 3 * i, 0);
+    }
+  } else {
+    T.p_phi.setZero();  // I + A dt drops A^2 dt^2 / 2
+    // B = A_bias dt at the state before the step (the reference's A).
+    const Matrix3 Rdt = X.R() * dt;
+    T.B.block<3, 3>(0, 0) = -Rdt;  // phi <- b_g
+    for (Eigen::Index i = 0; i < k; ++i) {
+      T.B.block<3, 3>(3 + 3 * i, 0).noalias() = -lie::hat3(Vector3(X.col(i))) * Rdt;  // c <- b_g
+    }
+    T.B.block<3, 3>(3, 3) = -Rdt;  // v <- b_a
+  }
+  return T;
+}
+
+}  // namespace inekf
+
+namespace {
+
+using Matrix3 = Eigen::Matrix3d;
+using Vector3 = Eigen::Vector3d;
+using inekf::Covariance;
+using inekf::Discretisation;
+
+[[noreturn]] void fail(double t, const std::string& what) {
+  std::ostringstream os;
+  os << "InvariantEkf::step at t = " << t << ": " << what;
+  throw std::invalid_argument(os.str());
+}
+
+// T of e = -T xi (file comment): e = (dtheta, dv, dp), xi = (phi, rho_v, rho_p).
+Eigen::Matrix<double, 9, 9> xiToBase(const Vector3& v, const Vector3& p) {
+  Eigen::Matrix<double, 9, 9> T = Eigen::Matrix<double, 9, 9>::Identity();
+  T.block<3, 3>(3, 0) = -lie::hat3(v);
+  T.block<3, 3>(6, 0) = -lie::hat3(p);
+  return T;
+}
+
+}  // namespace
+
+InvariantEkfParams InvariantEkfParams::hartleyExample() {
+  InvariantEkfParams p;
+  p.imu.gyro_noise_density = 0.01;
+  p.imu.accel_noise_density = 0.1;
+  p.imu.gyro_bias_random_walk = 1e-5;
+  p.imu.accel_bias_random_walk = 1e-4;
+  p.foot_density = 0.01;
+  p.sigma_attitude = p.sigma_velocity = p.sigma_position = 1.0;
+  p.sigma_gyro_bias = p.sigma_accel_bias = 1.0;
+  p.discretisation = Discretisation::kFirstOrder;
+  p.gravity = Vector3(0.0, 0.0, -9.81);
+  return p;
+}
+
+InvariantEkf::InvariantEkf(const InvariantEkfParams& params) : params_(params) {
+  const model::ImuNoise& n = params.imu;
+  const auto nonNegative = [](double x) { return std::isfinite(x) && x >= 0.0; };
+  const auto positive = [](double x) { return std::isfinite(x) && x > 0.0; };
+  if (!nonNegative(n.gyro_noise_density) || !nonNegative(n.accel_noise_density) ||
+      !nonNegative(n.gyro_bias_random_walk) || !nonNegative(n.accel_bias_random_walk)) {
+    throw std::invalid_argument("InvariantEkf: IMU noise densities must be finite and >= 0");
+  }
+  if (!nonNegative(params.foot_density)) {
+    throw std::invalid_argument("InvariantEkf: foot_density must be finite and >= 0");
+  }
+  if (!positive(params.sigma_attitude) || !positive(params.sigma_velocity) ||
+      !positive(params.sigma_position) || !positive(params.sigma_gyro_bias) ||
+      !positive(params.sigma_accel_bias)) {
+    throw std::invalid_argument("InvariantEkf: prior sigmas must be finite and > 0");
+  }
+  if (!params.gravity.allFinite()) throw std::invalid_argument("InvariantEkf: gravity not finite");
+  reset(EstimateSample{});
+}
+
+void InvariantEkf::reset(const EstimateSample& x0) {
+  Group::Columns C(3, 2);
+  C << x0.v, x0.p;
+  X_ = Group(lie::SO3d::fromQuaternion(x0.q.normalized()), C);
+  b_g_.setZero();
+  b_a_.setZero();
+  column_of_foot_.fill(-1);
+  t_ = x0.t;
+  previous_ = model::ImuReading{};
+
+  // Prior diagonal in the kit's convention, mapped into xi = -T^-1 e.
+  Eigen::Matrix<double, 9, 1> sigma;
+  sigma << Vector3::Constant(params_.sigma_attitude), Vector3::Constant(params_.sigma_velocity),
+      Vector3::Constant(params_.sigma_position);
+  Eigen::Matrix<double, 9, 9> Tinv = Eigen::Matrix<double, 9, 9>::Identity();
+  Tinv.block<3, 3>(3, 0) = lie::hat3(x0.v);
+  Tinv.block<3, 3>(6, 0) = lie::hat3(x0.p);
+  P_.setZero(15, 15);
+  P_.topLeftCorner<9, 9>() = Tinv * sigma.array().square().matrix().asDiagonal() * Tinv.transpose();
+  P_.block<3, 3>(9, 9).diagonal().setConstant(params_.sigma_gyro_bias * params_.sigma_gyro_bias);
+  P_.block<3, 3>(12, 12).diagonal().setConstant(params_.sigma_accel_bias *
+                                                params_.sigma_accel_bias);
+}
+
+void InvariantEkf::validate(const StepInput& in) const {
+  const double t = in.t;
+  if (!std::isfinite(t)) fail(t, "time t is not finite");
+  if (!(in.dt >= 0.0) || !std::isfinite(in.dt)) {
+    std::ostringstream os;
+    os << "dt must be finite and non-negative, got " << in.dt;
+    fail(t, os.str());
+  }
+  if (!in.imu.w_m.allFinite()) fail(t, "gyro reading w_m is not finite");
+  if (!in.imu.a_m.allFinite()) fail(t, "accelerometer reading a_m is not finite");
+  if (in.num_contacts < 0 || in.num_contacts > static_cast<int>(in.contacts.size())) {
+    fail(t, "num_contacts = " + std::to_string(in.num_contacts) + " is out of range [0, " +
+                std::to_string(in.contacts.size()) + "]");
+  }
+  std::array<bool, inekf::kMaxFeet> seen{};
+  for (const ContactMeasurement& c : in.stance()) {
+    // Messages are built only on failure: the normal path does not allocate.
+    const auto footFail = [&](const std::string& what) {
+      fail(t, "foot id " + std::to_string(c.foot) + " " + what);
+    };
+    if (c.foot < 0 || c.foot >= inekf::kMaxFeet) {
+      footFail("is out of range [0, " + std::to_string(inekf::kMaxFeet) + ")");
+    }
+    if (seen[c.foot]) footFail("appears twice among the contacts");
+    seen[c.foot] = true;
+    if (!c.p_body.allFinite()) footFail("p_body is not finite");
+    if (!c.cov.allFinite()) footFail("covariance is not finite");
+    if ((c.cov - c.cov.transpose()).norm() > 1e-9 * (1.0 + c.cov.norm())) {
+      footFail("covariance is not symmetric");
+    }
+    // Sylvester's criterion: the leading principal minors are positive.
+    const Matrix3& N = c.cov;
+    if (!(N(0, 0) > 0.0 && N(0, 0) * N(1, 1) - N(0, 1) * N(1, 0) > 0.0 && N.determinant() > 0.0)) {
+      footFail("covariance is not positive definite");
+    }
+  }
+}
+
+void InvariantEkf::step(const StepInput& in) {
+  validate(in);  // throws before anything changes
+  if (in.dt > 0.0) propagate(in.dt);
+  correct(in);
+  previous_ = in.imu;
+  t_ = in.t;
+}
+
+namespace {
+
+// Calls f(std::integral_constant<int, n>) for the run-time number of feet n.
+template <typename F>
+void withFeet(int n, F&& f) {
+  static_assert(inekf::kMaxFeet == 4, "one case per foot count");
+  switch (n) {
+    case 0:
+      f(std::integral_constant<int, 0>{});
+      break;
+    case 1:
+      f(std::integral_constant<int, 1>{});
+      break;
+    case 2:
+      f(std::integral_constant<int, 2>{});
+      break;
+    case 3:
+      f(std::integral_constant<int, 3>{});
+      break;
+    default:
+      f(std::integral_constant<int, 4>{});
+      break;
+  }
+}
+
+}  // namespace
+
+void InvariantEkf::propagate(double dt) {
+  const Vector3 w = previous_.w_m - b_g_;  // bias-corrected rate
+  const Vector3 a = previous_.a_m - b_a_;  // bias-corrected specific force
+  const Vector3& g = params_.gravity;
+  const Discretisation mode = params_.discretisation;
+  const Group X_next = inekf::propagateMean(X_, w, a, g, dt, mode);
+  const inekf::Transition Phi = inekf::transition(X_, X_next, w, a, g, dt, mode);
+  withFeet(numFeet(), [&](auto feet) { propagateCovariance<decltype(feet)::value>(Phi, dt); });
+  X_ = X_next;
+}
+
+template <int Feet>
+void InvariantEkf::propagateCovariance(const inekf::Transition& Phi, double dt) {
+  constexpr int Nav = 9 + 3 * Feet;
+  constexpr int D = Nav + 6;
+  Eigen::Map<Eigen::Matrix<double, D, D>> P(P_.data());
+  const Eigen::Map<const Eigen::Matrix<double, Nav, 6>> B(Phi.B.data());
+  const bool exact = params_.discretisation == Discretisation::kExact;
+  const model::ImuNoise& n = params_.imu;
+  const double var_g = n.gyro_noise_density * n.gyro_noise_density;
+  const double var_a = n.accel_noise_density * n.accel_noise_density;
+  const double var_d = params_.foot_density * params_.foot_density;
+  const auto addDiagonal = [&](int at, double variance) {
+    P.template block<3, 3>(at, at).diagonal().array() += variance;
+  };
+  const auto addFootAndBiasNoise = [&] {
+    for (int i = 0; i < Feet; ++i) addDiagonal(9 + 3 * i, var_d * dt);  // slip random walk
+    addDiagonal(Nav, n.gyro_bias_random_walk * n.gyro_bias_random_walk * dt);
+    addDiagonal(Nav + 3, n.accel_bias_random_walk * n.accel_bias_random_walk * dt);
+  };
+
+  if (!exact) {
+    // The reference's Q_d = Phi (G Q_c G^T dt) Phi^T: add G Q_c G^T dt first, then one sandwich.
+    // Gyro noise through Ad: sigma_g^2 L L^T, L = [I; [v]_x; [p]_x; [d_i]_x] (R drops out).
+    Eigen::Matrix<double, Nav, 3> L;
+    L.template topRows<3>().setIdentity();
+    for (int i = 0; i < 2 + Feet; ++i) {
+      L.template middleRows<3>(3 + 3 * i) = lie::hat3(Vector3(X_.col(i)));
+    }
+    P.template topLeftCorner<Nav, Nav>() += (var_g * dt) * L.lazyProduct(L.transpose());
+    addDiagonal(3, var_a * dt);
+    addFootAndBiasNoise();
+  }
+
+  // P <- Phi P Phi^T with Phi = [[N, B], [0, I]] (header): rows first (M = Phi P), in an order
+  // that reads each source row before it is overwritten, then the columns of M's navigation
+  // rows; the bias rows follow by symmetry. The blocks read and written never overlap.
+  P.template middleRows<3>(6) += Phi.p_v * P.template middleRows<3>(3);
+  if (exact) P.template middleRows<3>(6) += Phi.p_phi.lazyProduct(P.template topRows<3>());
+  P.template middleRows<3>(3) += Phi.v_phi.lazyProduct(P.template topRows<3>());
+  P.template topRows<Nav>() += B.lazyProduct(P.template bottomRows<6>());
+
+  auto Pnav = P.template topLeftCorner<Nav, Nav>();
+  Pnav.template middleCols<3>(6) += Phi.p_v * Pnav.template middleCols<3>(3);
+  if (exact) {
+    Pnav.template middleCols<3>(6) +=
+        Pnav.template leftCols<3>().lazyProduct(Phi.p_phi.transpose());
+  }
+  Pnav.template middleCols<3>(3) += Pnav.template leftCols<3>().lazyProduct(Phi.v_phi.transpose());
+  // The bias columns of M times B^T; for kExact, Q_d = B diag(sigma_g^2, sigma_a^2) B^T / dt (the
+  // white noise's mean over dt enters like the bias error) joins the same product.
+  Eigen::Matrix<double, Nav, 6> MB = P.template topRightCorner<Nav, 6>();
+  if (exact) {
+    Eigen::Matrix<double, 6, 1> q;
+    q << Vector3::Constant(var_g / dt), Vector3::Constant(var_a / dt);
+    MB += B * q.asDiagonal();
+  }
+  Pnav += MB.lazyProduct(B.transpose());
+  P.template bottomLeftCorner<6, Nav>() = P.template topRightCorner<Nav, 6>().transpose();
+  if (exact) addFootAndBiasNoise();
+  Pnav = 0.5 * (Pnav + Pnav.transpose()).eval();  // rounding only
+}
+
+void InvariantEkf::correct(const StepInput& in) {
+  withFeet(numFeet(), [&](auto feet) { correctHeldFeet<decltype(feet)::value>(in); });
+  std::array<bool, inekf::kMaxFeet> stance{};
+  for (const ContactMeasurement& c : in.stance()) stance[c.foot] = true;
+  for (int foot = 0; foot < inekf::kMaxFeet; ++foot) {
+    if (column_of_foot_[foot] >= 0 && !stance[foot]) removeFoot(foot);
+  }
+  for (const ContactMeasurement& c : in.stance()) {
+    if (column_of_foot_[c.foot] < 0) addFoot(c);
+  }
+}
+
+template <int Feet>
+void InvariantEkf::correctHeldFeet(const StepInput& in) {
+  constexpr int Nav = 9 + 3 * Feet;
+  constexpr int D = Nav + 6;
+  Eigen::Map<Eigen::Matrix<double, D, D>> P(P_.data());
+  const Matrix3 R = X_.R();  // the predicted attitude: every foot is linearised here
+  const Vector3 p = X_.col(1);
+  Eigen::Matrix<double, D, 1> delta = Eigen::Matrix<double, D, 1>::Zero();
+  bool corrected = false;
+  for (const ContactMeasurement& c : in.stance()) {
+    const int col = column_of_foot_[c.foot];
+    if (col < 0) continue;       // touching down now: added after the correction
+    const int id = 3 + 3 * col;  // error index of this foot's rho_d
+    // z = R_hat y + p_hat - d_hat, H = [.., -I (p), .., +I (d), ..]; the innovation is taken
+    // relative to the earlier feet's correction (sequential = stacked).
+    const Vector3 z = R * c.p_body + p - X_.col(col);
+    const Vector3 nu = z - (delta.template segment<3>(id) - delta.template segment<3>(6));
+    const Eigen::Matrix<double, D, 3> U =
+        P.template middleCols<3>(id) - P.template middleCols<3>(6);  // P H^T
+    const Matrix3 S =
+        U.template middleRows<3>(id) - U.template middleRows<3>(6) + R * c.cov * R.transpose();
+    // S = C C^T (Cholesky). K = U S^-1 = W C^-1 with W = U C^-T, so K S K^T = W W^T, and
+    // the correction is K nu = W (C^-1 nu). W is D x 3, column-major: the rank-3 update of P
+    // runs down its columns.
+    const Eigen::LLT<Matrix3> llt(S);
+    const Matrix3 C_inv = llt.matrixL().solve(Matrix3::Identity());
+    const Eigen::Matrix<double, D, 3> W = U * C_inv.transpose();
+    delta += W * (C_inv * nu);
+    P -= W.lazyProduct(W.transpose());
+    corrected = true;
+  }
+  if (!corrected) return;
+  X_ = Group::Exp(Group::Tangent(delta.template head<Nav>())) * X_;  // X_hat <- Exp(delta) X_hat
+  b_g_ += delta.template segment<3>(Nav);
+  b_a_ += delta.template segment<3>(Nav + 3);
+}
+
+void InvariantEkf::removeFoot(int foot) {
+  const int col = column_of_foot_[foot];
+  const int at = 3 + 3 * col;  // its rows and columns in P
+  const int n = static_cast<int>(P_.rows());
+  const int tail = n - at - 3;
+  // Marginalising a Gaussian: drop the rows and columns.
+  Covariance Pm(n - 3, n - 3);
+  Pm.topLeftCorner(at, at) = P_.topLeftCorner(at, at);
+  Pm.topRightCorner(at, tail) = P_.topRightCorner(at, tail);
+  Pm.bottomLeftCorner(tail, at) = P_.bottomLeftCorner(tail, at);
+  Pm.bottomRightCorner(tail, tail) = P_.bottomRightCorner(tail, tail);
+  P_ = Pm;
+  X_.removeColumn(col);
+  column_of_foot_[foot] = -1;
+  for (int& c : column_of_foot_) {
+    if (c > col) --c;
+  }
+}
+
+void InvariantEkf::addFoot(const ContactMeasurement& c) {
+  const Matrix3& R = X_.R();
+  const int col = static_cast<int>(X_.numCols());
+  const int at = 3 + 3 * col;  // = the navigation dimension before the new column
+  const int n = static_cast<int>(P_.rows());
+  // rho_d = rho_p + R_hat n: the new rows copy rho_p's, plus R_hat Cov R_hat^T on the diagonal.
+  Covariance Pa(n + 3, n + 3);
+  Pa.topLeftCorner(at, at) = P_.topLeftCorner(at, at);
+  Pa.topRightCorner(at, 6) = P_.topRightCorner(at, 6);
+  Pa.bottomLeftCorner(6, at) = P_.bottomLeftCorner(6, at);
+  Pa.bottomRightCorner<6, 6>() = P_.bottomRightCorner<6, 6>();
+  Pa.block(0, at, at, 3) = P_.block(0, 6, at, 3);
+  Pa.block(at + 3, at, 6, 3) = P_.block(at, 6, 6, 3);
+  Pa.block(at, 0, 3, at) = P_.block(6, 0, 3, at);
+  Pa.block(at, at + 3, 3, 6) = P_.block(6, at, 3, 6);
+  Pa.block<3, 3>(at, at) = P_.block<3, 3>(6, 6) + R * c.cov * R.transpose();
+  P_ = Pa;
+  X_.appendColumn(X_.col(1) + R * c.p_body);  // d = p_hat + R_hat y
+  column_of_foot_[c.foot] = col;
+}
+
+EstimateSample InvariantEkf::estimate() const {
+  EstimateSample e;
+  e.t = t_;
+  e.q = Eigen::Quaterniond(X_.R());
+  e.v = X_.col(0);
+  e.p = X_.col(1);
+  return e;
+}
+
+std::optional<BaseCovariance> InvariantEkf::covariance() const {
+  const Eigen::Matrix<double, 9, 9> T = xiToBase(X_.col(0), X_.col(1));
+  BaseCovariance cov;
+  cov.P = T * P_.topLeftCorner<9, 9>() * T.transpose();  // the sign of e = -T xi cancels
+  cov.has_attitude = true;
+  return cov;
+}
+
+}  // namespace legkit::invariant

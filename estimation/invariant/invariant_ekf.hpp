@@ -1,0 +1,191 @@
+// The contact-aided right-invariant EKF of section 57.5 (Hartley et al. 2020, "Contact-aided
+// invariant extended Kalman filtering for robot state estimation", IJRR), in its "imperfect" form
+// with IMU biases: the state of a legged robot lives in a matrix Lie group, and the filter's error
+// is defined so that, without biases, it evolves independently of the state.
+//
+// State. X in SE_{2+n}(3): attitude R (body to world), world velocity v and position p, and the
+// world positions d_1..d_n of the n feet currently in contact (lie/sek3.hpp),
+//        [ R  v  p  d_1 .. d_n ]
+//   X =  [ 0  1  0   0  ..  0  ]      plus the biases theta = (b_g, b_a) in R^6, kept beside the
+//        [ ...      I          ]      group (they do not transform with the robot's pose).
+// n changes at run time (a foot touching down adds a column, a foot lifting off removes one) up
+// to kMaxFeet; all storage has that fixed capacity, so step() never allocates.
+//
+// Error. Right-invariant on the group, additive on the biases:
+//   eta = X_hat X^-1 = Exp(xi),  xi = (phi, rho_v, rho_p, rho_d1..rho_dn),  zeta = b_hat - b,
+// ordered (xi, zeta) in P (15 + 3n numbers). eta is the world-frame rigid motion that carries the
+// true state onto the estimate: R_hat = Exp(phi) R, and each column c_hat = Exp(phi) c + (J rho).
+// Corrections multiply on the left, X_hat <- Exp(delta) X_hat, b_hat <- b_hat + delta_b.
+//
+// Propagation over dt with the previous IMU sample u = (w_m, a_m) held, w = w_m - b_g,
+// a = a_m - b_a. With the same input, estimate and truth obey eta+ = Gamma_g f(eta) Gamma_g^-1
+// exactly (lie/imu_dynamics.hpp), so xi is log-linear:
+//   xi+ = Phi xi - Ad_{X_hat+} J_u (zeta + n),     Phi = I + A dt + A^2 dt^2 / 2,
+//   A = [[0, 0, 0], [[g]_x, 0, 0], [0, I, 0]] on (phi, v, p), zero rows for the feet.
+// Phi's navigation block depends on g and dt only; only the bias block B = -Ad_{X_hat+} J_u
+// (which is why this filter is "imperfect") depends on the estimate. Two discretisations:
+//  - kExact (default): X_hat+ = lie::imu::propagate (exact for a held sample), Phi and B in
+//    closed form (lie::imu::phiWithBias's blocks). The white IMU noise over the interval enters
+//    like the bias error, through B: its mean over dt has covariance Q/dt, so
+//      Q_d = B diag(sigma_g^2, sigma_a^2) B^T / dt  +  sigma_d^2 dt I on each foot
+//            +  sigma_bg^2 dt, sigma_ba^2 dt on the biases.
+//  - kFirstOrder: the reference implementation's (RossHartley/invariant-ekf, InEKF.cpp):
+//    R+ = R Exp(w dt), v+ = v + (R a + g) dt, p+ = p + v dt + (R a + g) dt^2 / 2,
+//    Phi = I + A_full dt with A_full's bias block [[-R, 0], [-[v]_x R, -R], [-[p]_x R, 0],
+//    [-[d_i]_x R, 0]] at the state before the step, and
+//      Q_d = Phi G Q_c G^T Phi^T dt,  G = blockdiag(Ad_{X_hat}, I_6),
+//    Q_c = diag(sigma_g^2, sigma_a^2, 0, sigma_d^2 per foot, sigma_bg^2, sigma_ba^2) (body-frame
+//    noises mapped to the world by the Adjoint).
+// In both, P+ = Phi P Phi^T + Q_d is computed from Phi's blocks (Phi is the identity except on
+// the v and p rows of the navigation block and the bias columns), and Ad is never formed: with
+// isotropic noises, Ad Q_c Ad^T = sigma_g^2 [I; [c_i]_x] [I; [c_i]_x]^T + diagonal terms.
+//
+// Correction, one stance foot held in column c: the kinematics give the foot in the body frame,
+// y = R^T (d - p) + n, n ~ N(0, Cov) (the ContactMeasurement). In the right-invariant form
+//   z = R_hat y + p_hat - d_hat = rho_p - rho_d + R_hat n   (to first order),
+// a residual whose Jacobian does not depend on the estimate at all. As the reference does, the
+// filter writes it for the correction delta = -xi: H = [0, 0, -I, .., +I (foot), .., 0], noise
+// N = R_hat Cov R_hat^T, K = P H^T (H P H^T + N)^-1, delta = K z, P <- P - K H P. All feet
+// of a sample are linearised at the same predicted state: they are processed one after another
+// (3 x 3 innovations, each corrected for the earlier feet's delta), which equals the reference's
+// single stacked update, and the group is moved once, X_hat <- Exp(delta_xi) X_hat.
+//
+// Contacts, by foot id, after the correction (the reference's order): a held foot that is no
+// longer in stance is marginalised (its column of X and its rows and columns of P removed); a foot
+// that touches down gets a new column d = p_hat + R_hat y, whose right-invariant error is
+// rho_d = rho_p + R_hat n: its rows of P copy those of rho_p, plus R_hat Cov R_hat^T. (The
+// reference takes R_hat from before the correction here; this filter uses the corrected one, for
+// which that error relation holds; the difference is the size of one attitude correction times
+// the leg length.) A stance foot's slip random walk sigma_d enters through Q_d.
+//
+// covariance() maps xi to the kit's convention (R = Exp(dtheta) R_hat, v = v_hat + dv,
+// p = p_hat + dp) to first order: dtheta = -phi, dv = -(rho_v - [v_hat]_x phi),
+// dp = -(rho_p - [p_hat]_x phi).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <optional>
+
+#include "estimation/estimator.hpp"
+#include "lie/sek3.hpp"
+#include "model/imu_model.hpp"
+#include "model/imu_noise.hpp"
+
+namespace legkit::invariant {
+
+namespace inekf {
+
+constexpr int kMaxFeet = 4;                    // contact columns at most (foot ids 0..3)
+constexpr int kMaxColumns = 2 + kMaxFeet;      // v, p, d_1..d_4
+constexpr int kMaxNav = 3 + 3 * kMaxColumns;   // 21: the group part of the error
+constexpr int kMaxDim = kMaxNav + 6;           // 27: with the biases
+using Group = lie::SEKd<double, kMaxColumns>;  // SE_{2+n}(3), n <= kMaxFeet
+using Covariance =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMaxDim, kMaxDim>;
+using BiasBlock = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::ColMajor, kMaxNav, 6>;
+
+enum class Discretisation {
+  kExact,       // closed-form Phi, exact mean for a held sample (this kit's default)
+  kFirstOrder,  // Phi = I + A dt and the reference implementation's mean and Q_d
+};
+
+// Phi = [[N, B], [0, I_6]] (file comment): N differs from the identity only in the blocks
+// v <- phi ([g]_x dt), p <- phi ([g]_x dt^2/2, 0 for first order) and p <- v (I dt).
+struct Transition {
+  Eigen::Matrix3d v_phi;      // [g]_x dt
+  Eigen::Matrix3d p_phi;      // [g]_x dt^2 / 2 (kExact) or 0 (kFirstOrder)
+  double p_v = 0.0;           // dt
+  BiasBlock B;                // navigation rows x (b_g, b_a) columns
+  Covariance matrix() const;  // the full (dof + 6) square Phi, for tests and teaching
+};
+
+// Phi for the step from X (before propagation) with bias-corrected rate w and specific force a.
+// X_next is X propagated by the same discretisation (used by kExact's B = -Ad_{X_next} J_u).
+Transition transition(const Group& X, const Group& X_next, const Eigen::Vector3d& w,
+                      const Eigen::Vector3d& a, const Eigen::Vector3d& g, double dt,
+                      Discretisation discretisation);
+
+// The mean step of the chosen discretisation (file comment).
+Group propagateMean(const Group& X, const Eigen::Vector3d& w, const Eigen::Vector3d& a,
+                    const Eigen::Vector3d& g, double dt, Discretisation discretisation);
+
+}  // namespace inekf
+
+struct InvariantEkfParams {
+  model::ImuNoise imu = model::ImuNoise::go2();  // continuous densities (the simulator's)
+  // A stance foot's slip random walk [m/sqrt(s)]. The simulated feet do not slip: a small
+  // allowance, as in the ESKF.
+  double foot_density = 1e-3;
+  // Prior at reset, standard deviations in the kit's convention (mapped into xi at reset).
+  double sigma_attitude = 0.01;    // [rad] per axis, world frame
+  double sigma_velocity = 0.05;    // [m/s]
+  double sigma_position = 0.01;    // [m]
+  double sigma_gyro_bias = 0.002;  // [rad/s]
+  double sigma_accel_bias = 0.02;  // [m/s^2]
+  inekf::Discretisation discretisation = inekf::Discretisation::kExact;
+  Eigen::Vector3d gravity = model::gravity();
+
+  // The settings of the reference implementation's Cassie example (src/examples/kinematics.cpp):
+  // its noise values read as continuous-time standard deviations (gyro 0.01, accel 0.1, bias
+  // random walks 1e-5 and 1e-4, contact 0.01), P0 = I, first-order Phi.
+  static InvariantEkfParams hartleyExample();
+};
+
+class InvariantEkf final : public Estimator {
+ public:
+  using Group = inekf::Group;
+  using Covariance = inekf::Covariance;
+
+  // Throws std::invalid_argument for a negative noise density, a non-positive prior sigma or a
+  // non-finite gravity.
+  explicit InvariantEkf(const InvariantEkfParams& params = {});
+
+  std::string name() const override { return "invariant-ekf"; }
+  // Base from x0, biases zero, no feet; P from the Params sigmas. The held IMU sample is zero
+  // until the first step (as in the reference: a first step with dt > 0 propagates zero input).
+  void reset(const EstimateSample& x0) override;
+  // Propagation over in.dt with the previous IMU sample, then the contacts of this sample:
+  // corrections for the held feet still in stance, removal of the others, new columns for feet
+  // that touched down. Throws std::invalid_argument (state untouched) for a non-finite time, IMU
+  // reading or contact, a negative dt, a contact count out of range, a foot id out of range or
+  // repeated, or a contact covariance that is not symmetric positive definite.
+  void step(const StepInput& in) override;
+  EstimateSample estimate() const override;
+  // The (dtheta, dv, dp) block in the BaseCovariance convention (file comment).
+  std::optional<BaseCovariance> covariance() const override;
+
+  const Group& X() const { return X_; }
+  const Eigen::Vector3d& b_g() const { return b_g_; }
+  const Eigen::Vector3d& b_a() const { return b_a_; }
+  // Covariance of (xi, zeta): 15 + 3 n rows.
+  const Covariance& P() const { return P_; }
+  int numFeet() const { return static_cast<int>(X_.numCols()) - 2; }
+  // The column of X holding foot `foot` (2, 3, ...), or -1 when it is not in contact.
+  int columnOf(int foot) const { return column_of_foot_[foot]; }
+
+ private:
+  void validate(const StepInput& in) const;
+  void propagate(double dt);
+  void correct(const StepInput& in);
+  // The covariance parts of propagate() and correct() for a fixed number of feet, so that every
+  // product has compile-time sizes (dispatched on numFeet()).
+  template <int Feet>
+  void propagateCovariance(const inekf::Transition& Phi, double dt);
+  template <int Feet>
+  void correctHeldFeet(const StepInput& in);
+  void removeFoot(int foot);
+  void addFoot(const ContactMeasurement& c);
+  int navDim() const { return 3 + 3 * static_cast<int>(X_.numCols()); }
+
+  InvariantEkfParams params_;
+  Group X_{2};
+  Eigen::Vector3d b_g_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d b_a_ = Eigen::Vector3d::Zero();
+  Covariance P_ = Covariance::Identity(15, 15);
+  std::array<int, inekf::kMaxFeet> column_of_foot_{};  // -1: not held
+  double t_ = 0.0;
+  model::ImuReading previous_;
+};
+
+}  // namespace legkit::invariant
