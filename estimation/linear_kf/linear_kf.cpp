@@ -103,7 +103,7 @@ void josephUpdate(Matrix18& P, const Matrix18x3& K, const Matrix18x3& N, const E
   // (K V^T + V K^T is formed before it is added, so that P stays exactly symmetric.)
   const Matrix18x3 V = 0.5 * K * S - N;
   Matrix18 W;
-  W.noalias() = K * V.transpose();
+  W.noalias() = K.lazyProduct(V.transpose());  // coefficient-wise: the inner size is 3
   P += W + W.transpose();
 }
 
