@@ -42,7 +42,8 @@ struct HartleyLog {
 };
 
 // The feet of a sample whose contact indicator is 1 (the stance feet), written to `out`; returns
-// how many.
+// how many. A foot marked in contact without a KINEMATIC entry has nothing to measure and is left
+// out, as the reference does.
 int stanceFeet(const HartleySample& sample, std::array<ContactMeasurement, kHartleyMaxFeet>& out);
 
 HartleyLog readHartleyLog(const std::string& path);

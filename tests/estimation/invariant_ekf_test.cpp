@@ -358,3 +358,400 @@ TEST_CASE("InEKF: contacts added and removed keep P symmetric positive definite"
       held.bottomRightCorner(6, 6);
   CHECK(filter.P() == marginal);
 }
+
+TEST_CASE("InEKF: a correction reduces the covariance along H and nowhere grows it",
+          "[57.5][inekf]") {
+  InvariantEkf filter;
+  filter.reset(EstimateSample{});
+  const ContactMeasurement c1 = contact(1, Vector3d(0.2, -0.1, -0.3), 0.01);
+  const ContactMeasurement c3 = contact(3, Vector3d(-0.2, 0.1, -0.3), 0.01);
+  const model::ImuReading still{Vector3d::Zero(), Vector3d(0, 0, 9.81)};
+  filter.step(input(0.0, 0.0, still, {c1, c3}));
+  // Hold both feet for 0.2 s with their measurements made nearly useless (huge covariance), so
+  // that the uncertainty along H grows; then one correction with the true noise (dt = 0: no
+  // propagation in between).
+  ContactMeasurement vague1 = c1, vague3 = c3;
+  vague1.cov *= 1e10;
+  vague3.cov *= 1e10;
+  for (int k = 1; k <= 200; ++k) filter.step(input(k * 1e-3, 1e-3, still, {vague1, vague3}));
+  const MatrixXd before = filter.P();
+  const int col = filter.columnOf(1);
+  MatrixXd H = MatrixXd::Zero(3, before.rows());
+  H.block<3, 3>(0, 6) = -Matrix3d::Identity();
+  H.block<3, 3>(0, 3 + 3 * col) = Matrix3d::Identity();
+  filter.step(input(0.2, 0.0, still, {c1, c3}));
+  const MatrixXd after = filter.P();
+  const Matrix3d along_before = H * before * H.transpose();
+  const Matrix3d along_after = H * after * H.transpose();
+  CAPTURE(along_before.trace(), along_after.trace());
+  // Each foot's relative position is known to ~ its measurement noise after the update.
+  CHECK(along_after.trace() < 0.5 * along_before.trace());
+  CHECK(along_after.trace() < 4 * c1.cov.trace());
+  CHECK(minEigenvalue(before - after) > -1e-15 * maxAbs(before));  // P never grows
+  CHECK(minEigenvalue(after) > 0.0);
+}
+
+TEST_CASE("InEKF: covariance() maps xi to the kit's convention to first order", "[57.5][inekf]") {
+  std::mt19937 gen(13);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Group X_hat = randomGroup(gen, 2);
+    EstimateSample estimate;
+    estimate.q = Eigen::Quaterniond(X_hat.R());
+    estimate.v = X_hat.col(0);
+    estimate.p = X_hat.col(1);
+    Eigen::Matrix<double, 9, 9> T = Eigen::Matrix<double, 9, 9>::Identity();  // e = -T xi
+    T.block<3, 3>(3, 0) = -lie::hat3(Vector3d(X_hat.col(0)));
+    T.block<3, 3>(6, 0) = -lie::hat3(Vector3d(X_hat.col(1)));
+    for (const double scale : {1e-4, 1e-3}) {
+      Eigen::Matrix<double, 9, 1> xi;
+      for (int i = 0; i < 9; ++i) xi(i) = std::normal_distribution<double>(0.0, scale)(gen);
+      const Group X = Group::Exp(Group::Tangent(-xi)) * X_hat;  // eta = X_hat X^-1 = Exp(xi)
+      REQUIRE(((X_hat * X.inverse()).Log() - xi).norm() < 1e-12);
+      EstimateSample truth;
+      truth.q = Eigen::Quaterniond(X.R());
+      truth.v = X.col(0);
+      truth.p = X.col(1);
+      const Eigen::Matrix<double, 9, 1> e = eval::baseError(truth, estimate);
+      // First order: the remainder shrinks like |xi|^2 (times the size of v and p).
+      CHECK((e + T * xi).norm() < 20 * scale * scale * (1 + X_hat.columns().norm()));
+    }
+  }
+  // And the filter reports T P T^T, which at reset is the prior it was given.
+  InvariantEkfParams params;
+  InvariantEkf filter(params);
+  EstimateSample x0;
+  x0.q = Eigen::Quaterniond(lie::SO3d::Random(gen).matrix());
+  x0.v = Vector3d(1.0, -0.5, 0.2);
+  x0.p = Vector3d(3.0, 2.0, 0.4);
+  filter.reset(x0);
+  Eigen::Matrix<double, 9, 1> sigma;
+  sigma << Vector3d::Constant(params.sigma_attitude), Vector3d::Constant(params.sigma_velocity),
+      Vector3d::Constant(params.sigma_position);
+  const BaseCovariance cov = *filter.covariance();
+  CHECK(cov.has_attitude);
+  CHECK((cov.P - Eigen::Matrix<double, 9, 9>(sigma.array().square().matrix().asDiagonal())).norm() <
+        1e-15);
+  CHECK(filter.P().topLeftCorner<9, 9>().isDiagonal() == false);  // xi's prior is correlated
+}
+
+TEST_CASE("InEKF: a noiseless trot is tracked, with either discretisation", "[57.5][inekf]") {
+  const io::Log log = trotLog(5.0, 1, true);
+  const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
+  for (const Discretisation mode : {Discretisation::kExact, Discretisation::kFirstOrder}) {
+    InvariantEkfParams params;
+    params.discretisation = mode;
+    InvariantEkf filter(params);
+    const eval::RunResult run = eval::runOnLog(filter, log, frontend, eval::initialState(log));
+    const eval::Metrics m = eval::compare(log, run.trajectory);
+    INFO("mode " << static_cast<int>(mode) << ": position RMSE " << m.position_rmse
+                 << " m, velocity RMSE " << m.velocity_rmse << " m/s, tilt " << m.tilt_rmse_deg
+                 << " deg, yaw " << m.yaw_rmse_deg << " deg");
+    CHECK(m.position_rmse < 5e-3);
+    CHECK(m.velocity_rmse < 5e-3);
+    CHECK(m.tilt_rmse_deg < 0.05);
+    CHECK(m.yaw_rmse_deg < 0.05);
+    for (int i = 0; i < 4; ++i) {
+      CHECK((filter.columnOf(i) >= 0) == static_cast<bool>(log.rows.back().contact[i]));
+    }
+  }
+}
+
+TEST_CASE("InEKF: step() never allocates", "[57.5][inekf]") {
+  const io::Log log = trotLog(1.0, 8, false);
+  const std::vector<StepInput> inputs = inputsOf(log);
+  for (const Discretisation mode : {Discretisation::kExact, Discretisation::kFirstOrder}) {
+    InvariantEkfParams params;
+    params.discretisation = mode;
+    InvariantEkf filter(params);
+    filter.reset(eval::initialState(log));
+    const long before = g_allocations.load();
+    for (const StepInput& in : inputs) filter.step(in);
+    const long after = g_allocations.load();
+    CHECK(after - before == 0);
+    CHECK(filter.numFeet() == inputs.back().num_contacts);  // it did run
+  }
+}
+
+TEST_CASE("InEKF: bad input throws and leaves the state untouched", "[57.5][inekf]") {
+  const io::Log log = trotLog(1.5, 2, false);
+  const std::vector<StepInput> inputs = inputsOf(log);
+  InvariantEkf filter;
+  filter.reset(eval::initialState(log));
+  std::size_t k = 0;
+  for (; k < 1400; ++k) filter.step(inputs[k]);
+  StepInput good = inputs[k];
+  while (good.num_contacts < 2) good = inputs[++k];  // two feet down: room for each fault
+
+  const Group X_before = filter.X();
+  const MatrixXd P_before = filter.P();
+  const Vector3d b_g = filter.b_g(), b_a = filter.b_a();
+  const double t_before = filter.estimate().t;
+  std::array<int, 4> columns{};
+  for (int i = 0; i < 4; ++i) columns[i] = filter.columnOf(i);
+  const auto untouched = [&] {
+    CHECK(filter.X().R() == X_before.R());
+    CHECK(filter.X().columns() == X_before.columns());
+    CHECK(filter.P() == P_before);
+    CHECK(filter.b_g() == b_g);
+    CHECK(filter.b_a() == b_a);
+    CHECK(filter.estimate().t == t_before);
+    for (int i = 0; i < 4; ++i) CHECK(filter.columnOf(i) == columns[i]);
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  struct Case {
+    const char* message;
+    std::function<void(StepInput&)> spoil;
+  };
+  const std::vector<Case> cases = {
+      {"gyro reading w_m is not finite", [&](StepInput& in) { in.imu.w_m.x() = nan; }},
+      {"accelerometer reading a_m is not finite",
+       [&](StepInput& in) { in.imu.a_m.z() = std::numeric_limits<double>::infinity(); }},
+      {"dt must be finite and non-negative", [](StepInput& in) { in.dt = -1e-3; }},
+      {"dt must be finite and non-negative", [&](StepInput& in) { in.dt = nan; }},
+      {"time t is not finite", [&](StepInput& in) { in.t = nan; }},
+      {"foot id 4 is out of range", [](StepInput& in) { in.contacts[1].foot = 4; }},
+      {"foot id -1 is out of range", [](StepInput& in) { in.contacts[0].foot = -1; }},
+      {"appears twice", [](StepInput& in) { in.contacts[1].foot = in.contacts[0].foot; }},
+      {"p_body is not finite", [&](StepInput& in) { in.contacts[1].p_body.y() = nan; }},
+      {"covariance is not finite", [&](StepInput& in) { in.contacts[0].cov(2, 2) = nan; }},
+      {"covariance is not symmetric", [](StepInput& in) { in.contacts[1].cov(0, 1) += 1e-4; }},
+      {"covariance is not positive definite",
+       [](StepInput& in) { in.contacts[0].cov = -in.contacts[0].cov; }},
+      {"covariance is not positive definite",
+       [](StepInput& in) { in.contacts[0].cov(2, 2) = -in.contacts[0].cov(2, 2); }},
+      {"num_contacts = 9 is out of range", [](StepInput& in) { in.num_contacts = 9; }},
+      {"num_contacts = -1 is out of range", [](StepInput& in) { in.num_contacts = -1; }},
+  };
+  for (const Case& c : cases) {
+    StepInput bad = good;
+    c.spoil(bad);
+    INFO(c.message);
+    CHECK_THROWS_WITH(filter.step(bad), Catch::Contains(c.message) && Catch::Contains("t = "));
+    untouched();
+  }
+  CHECK_NOTHROW(filter.step(good));  // the same input, unspoiled, is accepted afterwards
+
+  const auto rejects = [](const std::function<void(InvariantEkfParams&)>& spoil,
+                          const char* message) {
+    InvariantEkfParams params;
+    spoil(params);
+    CHECK_THROWS_WITH(InvariantEkf(params), Catch::Contains(message));
+  };
+  rejects([](InvariantEkfParams& p) { p.foot_density = -1.0; }, "foot_density");
+  rejects([](InvariantEkfParams& p) { p.imu.accel_bias_random_walk = std::nan(""); },
+          "IMU noise densities");
+  rejects([](InvariantEkfParams& p) { p.sigma_position = 0.0; }, "prior sigmas");
+  rejects([](InvariantEkfParams& p) { p.gravity.z() = std::numeric_limits<double>::infinity(); },
+          "gravity");
+}
+
+namespace {
+
+struct NeesResult {
+  double mean = 0.0;      // mean over rows of ANEES_k (9 dof)
+  double fraction = 0.0;  // of rows whose ANEES_k is inside the 95 % bounds
+  eval::ChiSquareBounds bounds;
+};
+
+// M = 20 runs of 5 s of the Go2-class trot with their own seeds. Each run's initial biases and
+// initial estimate error are drawn from the prior the filter is given, so the claimed covariance
+// is right at t = 0 and NEES measures how well the filter keeps it right.
+NeesResult monteCarloNees(const InvariantEkfParams& params, const FrontendNoise& frontend) {
+  constexpr int kRuns = 20;
+  constexpr double kDuration = 5.0;
+  std::vector<double> anees;  // ANEES_k, per row
+  for (int run = 0; run < kRuns; ++run) {
+    std::mt19937 gen(1000 + run);
+    model::ImuBias bias;
+    bias.b_g = normal3(gen, params.sigma_gyro_bias);
+    bias.b_a = normal3(gen, params.sigma_accel_bias);
+    const io::Log log = trotLog(kDuration, 1 + run, false, bias);
+    EstimateSample x0 = eval::initialState(log);
+    // Truth = estimate (+) e in the kit's convention: R = Exp(e_theta) R_hat.
+    x0.q = Eigen::Quaterniond(lie::SO3d::Exp(-normal3(gen, params.sigma_attitude)).matrix() *
+                              x0.q.toRotationMatrix());
+    x0.v -= normal3(gen, params.sigma_velocity);
+    x0.p -= normal3(gen, params.sigma_position);
+    InvariantEkf filter(params);
+    const eval::RunResult result = eval::runOnLog(
+        filter, log, LogFrontend(log.layout, model::QuadrupedKinematics(), frontend), x0);
+    if (anees.empty()) anees.assign(result.nees.size(), 0.0);
+    for (std::size_t k = 0; k < anees.size(); ++k) anees[k] += result.nees[k] / kRuns;
+  }
+  NeesResult r;
+  r.bounds = eval::aneesBounds(9, kRuns);
+  int inside = 0;
+  for (const double a : anees) {
+    r.mean += a / anees.size();
+    inside += a >= r.bounds.lower && a <= r.bounds.upper;
+  }
+  r.fraction = static_cast<double>(inside) / anees.size();
+  return r;
+}
+
+// The simulator's feet are points that never slip: a tiny contact-point sigma in the front end
+// and a tiny stance-foot random walk.
+FrontendNoise simulatorFrontend() {
+  FrontendNoise noise;
+  noise.foot_point_sigma = 5e-4;
+  return noise;
+}
+
+std::string describe(const NeesResult& r) {
+  std::ostringstream os;
+  os << "ANEES over 20 runs: mean " << r.mean << " (9 dof), bounds [" << r.bounds.lower << ", "
+     << r.bounds.upper << "], " << 100 * r.fraction << " % of rows inside";
+  return os.str();
+}
+
+}  // namespace
+
+TEST_CASE("InEKF: Monte Carlo NEES on the trot, the simulator's noise model",
+          "[57.5][inekf][nees]") {
+  for (const Discretisation mode : {Discretisation::kExact, Discretisation::kFirstOrder}) {
+    InvariantEkfParams params;
+    params.discretisation = mode;
+    params.foot_density = 1e-4;
+    const NeesResult r = monteCarloNees(params, simulatorFrontend());
+    WARN("InEKF (" << (mode == Discretisation::kExact ? "exact" : "first order")
+                   << "): " << describe(r));
+    CHECK(r.mean > r.bounds.lower);
+    CHECK(r.mean < r.bounds.upper);
+    CHECK(r.fraction > 0.8);
+  }
+}
+
+TEST_CASE("InEKF: Monte Carlo NEES on the trot, the kit's defaults", "[57.5][inekf][nees]") {
+  const NeesResult r = monteCarloNees(InvariantEkfParams{}, FrontendNoise{});
+  WARN("InEKF (defaults): " << describe(r));
+  CHECK(r.mean > 0.8 * r.bounds.lower);
+  CHECK(r.mean < r.bounds.upper);
+}
+
+namespace {
+
+// The reference's Cassie example (RossHartley/invariant-ekf, src/examples/kinematics.cpp): its
+// settings (InvariantEkfParams::hartleyExample), R0 = diag(1, -1, -1), everything else zero,
+// dt measured from the previous record (0 before the first: the first step propagates the zero
+// sample held at reset over 4.5 ms, as the reference does).
+InvariantEkf runCassie(const io::HartleyLog& log) {
+  InvariantEkf filter(InvariantEkfParams::hartleyExample());
+  EstimateSample x0;
+  x0.q = Eigen::Quaterniond(Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal().toDenseMatrix());
+  filter.reset(x0);
+  double t_previous = 0.0;
+  for (const io::HartleySample& s : log.samples) {
+    StepInput in;
+    in.t = s.t;
+    in.dt = s.t - t_previous;
+    in.imu = s.imu;
+    std::array<ContactMeasurement, io::kHartleyMaxFeet> stance;
+    in.num_contacts = io::stanceFeet(s, stance);
+    std::copy(stance.begin(), stance.begin() + in.num_contacts, in.contacts.begin());
+    filter.step(in);
+    t_previous = s.t;
+  }
+  return filter;
+}
+
+// The log lives next to the repository (../shared/data/hartley-cassie/, see its README), or
+// wherever LEGKIT_CASSIE_LOG points.
+std::string cassiePath() {
+  if (const char* env = std::getenv("LEGKIT_CASSIE_LOG")) return env;
+  std::string here = __FILE__;  // <repo>/tests/estimation/invariant_ekf_test.cpp
+  const std::size_t at = here.rfind("/tests/estimation/");
+  return here.substr(0, at) + "/../shared/data/hartley-cassie/imu_kinematic_measurements.txt";
+}
+
+const char* kFoot =
+    " 0 0.0 0.7071 0.7071 0.0 -0.03 -0.13 0.92"
+    " 0 0 0 0 0 0  0 0 0 0 0 0  0 0 0 0 0 0  0 0 0 1e-4 0 0  0 0 0 0 1e-4 0  0 0 0 0 0 1e-5";
+
+io::HartleyLog parse(const std::string& text) {
+  std::istringstream in(text);
+  return io::parseHartleyLog(in, "test.txt");
+}
+
+}  // namespace
+
+TEST_CASE("Hartley log reader: records, stance feet and errors with file:line", "[57.5][io]") {
+  const std::string good = std::string("IMU 0.5 0.1 0.2 0.3 1 2 3\nCONTACT 0.5 0 1 1 0\n") +
+                           "KINEMATIC 0.5" + kFoot + kFoot + "\n";
+  std::string two = good;
+  two.replace(two.find(kFoot) + std::string(kFoot).size() + 1, 1, "1");  // second foot id 1
+  const io::HartleyLog log =
+      parse(two + "IMU 0.6 0 0 0 0 0 9.8\nCONTACT 0.6 0 0 1 1\nKINEMATIC 0.6" + kFoot + "\n");
+  REQUIRE(log.samples.size() == 2);
+  const io::HartleySample& s = log.samples[0];
+  CHECK(s.t == 0.5);
+  CHECK(s.imu.w_m == Vector3d(0.1, 0.2, 0.3));
+  CHECK(s.imu.a_m == Vector3d(1, 2, 3));
+  REQUIRE(s.num_feet == 2);
+  CHECK(s.feet[0].p_body == Vector3d(-0.03, -0.13, 0.92));
+  CHECK(s.feet[0].cov == Vector3d(1e-4, 1e-4, 1e-5).asDiagonal().toDenseMatrix());
+  std::array<ContactMeasurement, io::kHartleyMaxFeet> stance;
+  REQUIRE(io::stanceFeet(s, stance) == 1);
+  CHECK(stance[0].foot == 0);
+  // Foot 0 is up; foot 1 is down but has no kinematics: nothing to measure (as in the reference).
+  CHECK(io::stanceFeet(log.samples[1], stance) == 0);
+  CHECK(log.samples[1].line == 4);
+
+  const auto rejects = [](const std::string& text, const std::string& where,
+                          const std::string& what) {
+    INFO(text);
+    CHECK_THROWS_WITH(parse(text), Catch::Contains(where) && Catch::Contains(what));
+  };
+  rejects("IMU 0.5 0.1 0.2 x 1 2 3\n", "test.txt:1: column 'wz'", "expected a number");
+  rejects("IMU 0.5 0.1 0.2 nan 1 2 3\n", "test.txt:1: column 'wz'", "not finite");
+  rejects("IMU 0.5 0.1 0.2 1 2 3\n", "test.txt:1", "IMU record needs 8 fields");
+  rejects(good + "IMU 0.5 0 0 0 0 0 0\n", "test.txt:4: column 't'", "not after");
+  rejects("CONTACT 0.5 0 1\n", "test.txt:1: column 't'", "without an IMU record");
+  rejects("IMU 0.5 0 0 0 0 0 0\nCONTACT 0.5 0 2\n", "test.txt:2: column 'c0'", "0 or 1");
+  rejects("IMU 0.5 0 0 0 0 0 0\nCONTACT 0.5 7 1\n", "test.txt:2: column 'id0'", "foot id");
+  rejects("IMU 0.5 0 0 0 0 0 0\nCONTACT 0.5 0 1\nKINEMATIC 0.5 0 1 2\n", "test.txt:3",
+          "44 fields per foot");
+  rejects("IMU 0.5 0 0 0 0 0 0\nCONTACT 0.5 0 1\n", "test.txt:2", "no KINEMATIC record");
+  rejects("IMU 0.5 0 0 0 0 0 0\nCONTACT 0.5 1 1\nKINEMATIC 0.5" + std::string(kFoot) + "\n",
+          "test.txt:3", "foot 0 of the sample of line 1 has no contact indicator");
+  rejects("GPS 0.5 1 2 3\n", "test.txt:1", "unknown record 'GPS'");
+  rejects("", "test.txt", "no IMU record");
+  CHECK_THROWS_WITH(io::readHartleyLog("/nonexistent/log.txt"), Catch::Contains("cannot open"));
+}
+
+// The whole reference log (10 s of Cassie walking, 19,992 samples, one or two feet down) with the
+// reference's settings. There is no ground truth: the checks are that nothing diverges, the
+// covariance stays bounded and positive definite, and the final state is physically sane.
+TEST_CASE("InEKF on the reference's Cassie log", "[57.5][inekf][cassie]") {
+  const std::string path = cassiePath();
+  if (!std::ifstream(path)) {
+    WARN("Cassie log not found at " << path << " (set LEGKIT_CASSIE_LOG): test skipped");
+    return;
+  }
+  const io::HartleyLog log = io::readHartleyLog(path);
+  REQUIRE(log.samples.size() == 19992);
+  const InvariantEkf filter = runCassie(log);
+  const EstimateSample x = filter.estimate();
+  const MatrixXd& P = filter.P();
+  std::ostringstream os;
+  os.precision(6);
+  os << "final state at t = " << x.t << ":\nR =\n"
+     << filter.X().R() << "\nv = " << x.v.transpose() << "\np = " << x.p.transpose()
+     << "\nb_g = " << filter.b_g().transpose() << "\nb_a = " << filter.b_a().transpose()
+     << "\nfeet held: " << filter.numFeet()
+     << ", sigma (theta, v, p) = " << filter.covariance()->P.diagonal().cwiseSqrt().transpose();
+  WARN(os.str());
+  CHECK(x.t == 10.0);
+  REQUIRE(P.allFinite());
+  REQUIRE(filter.X().matrix().allFinite());
+  CHECK(minEigenvalue(P) > 0.0);
+  CHECK(P.diagonal().maxCoeff() < 10.0);  // bounded (P0 = I)
+  CHECK((filter.X().R().transpose() * filter.X().R() - Matrix3d::Identity()).norm() < 1e-12);
+  // Sane for a walking biped: upright IMU frame (R0 = diag(1, -1, -1): z down), slow, near the
+  // start, small biases.
+  CHECK((filter.X().R() * Vector3d::UnitZ()).z() < -0.9);
+  CHECK(x.v.norm() < 2.0);
+  CHECK(x.p.norm() < 10.0);
+  CHECK(std::abs(x.p.z()) < 0.5);
+  CHECK(filter.b_g().norm() < 0.1);
+  CHECK(filter.b_a().norm() < 1.0);
+}
