@@ -704,7 +704,8 @@ TEST_CASE("Hartley log reader: records, stance feet and errors with file:line", 
   rejects("IMU 0.5 0.1 0.2 x 1 2 3\n", "test.txt:1: column 'wz'", "expected a number");
   rejects("IMU 0.5 0.1 0.2 nan 1 2 3\n", "test.txt:1: column 'wz'", "not finite");
   rejects("IMU 0.5 0.1 0.2 1 2 3\n", "test.txt:1", "IMU record needs 8 fields");
-  rejects(good + "IMU 0.5 0 0 0 0 0 0\n", "test.txt:4: column 't'", "not after");
+  rejects(two + "IMU 0.5 0 0 0 0 0 0\n", "test.txt:4: column 't'", "not after");
+  rejects(good, "test.txt:3: column 'id1'", "foot listed twice");
   rejects("CONTACT 0.5 0 1\n", "test.txt:1: column 't'", "without an IMU record");
   rejects("IMU 0.5 0 0 0 0 0 0\nCONTACT 0.5 0 2\n", "test.txt:2: column 'c0'", "0 or 1");
   rejects("IMU 0.5 0 0 0 0 0 0\nCONTACT 0.5 7 1\n", "test.txt:2: column 'id0'", "foot id");
