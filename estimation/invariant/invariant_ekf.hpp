@@ -14,7 +14,8 @@
 // Error. Right-invariant on the group, additive on the biases:
 //   eta = X_hat X^-1 = Exp(xi),  xi = (phi, rho_v, rho_p, rho_d1..rho_dn),  zeta = b_hat - b,
 // ordered (xi, zeta) in P (15 + 3n numbers). eta is the world-frame rigid motion that carries the
-// true state onto the estimate: R_hat = Exp(phi) R, and each column c_hat = Exp(phi) c + (J rho).
+// true state onto the estimate, X_hat = eta X: R_hat = Exp(phi) R and, for each column,
+// c_hat = Exp(phi) c + Jl(phi) rho (exercise 57.5.2).
 // Corrections multiply on the left, X_hat <- Exp(delta) X_hat, b_hat <- b_hat + delta_b.
 //
 // Propagation over dt with the previous IMU sample u = (w_m, a_m) held, w = w_m - b_g,
