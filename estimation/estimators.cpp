@@ -5,7 +5,11 @@
 #include <utility>
 
 #include "estimation/imu/dead_reckoning_estimator.hpp"
+#include "estimation/invariant/eskf.hpp"
+#include "estimation/invariant/invariant_ekf.hpp"
+#include "estimation/invariant/tsif.hpp"
 #include "estimation/leg_odometry/leg_odometry_estimator.hpp"
+#include "estimation/linear_kf/linear_kf.hpp"
 
 namespace legkit {
 namespace {
@@ -16,6 +20,10 @@ const std::vector<std::pair<std::string, Factory>>& registry() {
   static const std::vector<std::pair<std::string, Factory>> all = {
       {"imu-dead-reckoning", [] { return std::make_unique<imu::DeadReckoningEstimator>(); }},
       {"leg-odometry", [] { return std::make_unique<leg_odometry::LegOdometryEstimator>(); }},
+      {"linear-kf", [] { return std::make_unique<linear_kf::LinearKf>(); }},
+      {"eskf", [] { return std::make_unique<invariant::Eskf>(); }},
+      {"invariant-ekf", [] { return std::make_unique<invariant::InvariantEkf>(); }},
+      {"tsif", [] { return std::make_unique<invariant::Tsif>(); }},
   };
   return all;
 }
