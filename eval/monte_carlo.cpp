@@ -9,11 +9,13 @@
 #include <exception>
 #include <limits>
 #include <mutex>
+#include <random>
 #include <stdexcept>
 #include <thread>
 
 #include "estimation/log_frontend.hpp"
 #include "eval/runner.hpp"
+#include "lie/so3.hpp"
 
 namespace legkit::eval {
 
@@ -29,7 +31,16 @@ void drawProgress(int done, int total) {
   std::fflush(stderr);
 }
 
+Eigen::Vector3d normal3(std::mt19937& rng, double sigma) {
+  std::normal_distribution<double> n(0.0, sigma);
+  return {n(rng), n(rng), n(rng)};
+}
+
 }  // namespace
+
+FrontendNoise matchedFrontendNoise(const sim::SimOptions& sim) {
+  return {sim.encoder_angle_sigma, sim.foot_position_sigma};
+}
 
 std::vector<MonteCarloEstimate> monteCarlo(const MonteCarloOptions& options,
                                            const std::vector<NamedEstimator>& estimators) {
@@ -45,15 +56,27 @@ std::vector<MonteCarloEstimate> monteCarlo(const MonteCarloOptions& options,
   std::mutex mutex;  // guards first_error, times and the progress bar
   std::exception_ptr first_error;
   const bool progress = options.progress && isatty(fileno(stderr));
+  const FrontendNoise noise = options.frontend_noise.value_or(matchedFrontendNoise(options.sim));
   auto worker = [&] {
     for (int j = next++; j < M; j = next++) {
       try {
         sim::SimOptions sim = options.sim;
         sim.seed = options.first_seed + static_cast<unsigned>(j);
+        std::mt19937 rng(sim.seed * 2654435761u + 17u);  // apart from the simulator's streams
+        if (options.prior) {
+          sim.initial_bias.b_g = normal3(rng, options.prior->gyro_bias);
+          sim.initial_bias.b_a = normal3(rng, options.prior->accel_bias);
+        }
         const io::Log log = sim::simulate(sim).log;
-        const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
-        const EstimateSample x0 =
+        const LogFrontend frontend(log.layout, model::QuadrupedKinematics(), noise);
+        EstimateSample x0 =
             options.initial_state ? options.initial_state(log, j) : initialState(log);
+        if (options.prior) {  // truth = x0 (+) e, so x0 = truth (-) e
+          const Eigen::Matrix3d dR = lie::SO3d::Exp(-normal3(rng, options.prior->attitude)).matrix();
+          x0.q = Eigen::Quaterniond(dR * x0.q.toRotationMatrix());
+          x0.v -= normal3(rng, options.prior->velocity);
+          x0.p -= normal3(rng, options.prior->position);
+        }
         for (std::size_t e = 0; e < E; ++e) {
           const std::unique_ptr<Estimator> estimator = estimators[e].make();
           RunResult run = runOnLog(*estimator, log, frontend, x0);

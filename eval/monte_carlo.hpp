@@ -10,10 +10,12 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "estimation/estimator.hpp"
+#include "estimation/log_frontend.hpp"
 #include "eval/consistency.hpp"
 #include "eval/metrics.hpp"
 #include "eval/runner.hpp"
@@ -26,8 +28,23 @@ struct NamedEstimator {
   std::function<std::unique_ptr<Estimator>()> make;  // a fresh estimator for each run
 };
 
+// Per-axis standard deviations of the initial estimate's error and of the true IMU biases at
+// t = 0. A NEES study draws both from the prior the filters are given (their defaults are these
+// values), so that the covariance each filter claims is right at t = 0 and NEES measures how well
+// it stays right. The error is drawn in the kit's convention (estimator.hpp).
+struct InitialPrior {
+  double attitude = 0.01;    // [rad]
+  double velocity = 0.05;    // [m/s]
+  double position = 0.01;    // [m]
+  double gyro_bias = 0.002;  // [rad/s]
+  double accel_bias = 0.02;  // [m/s^2]
+};
+
 struct MonteCarloOptions {
   sim::SimOptions sim;      // scenario, duration, noise; its seed is replaced per run
+  // The noise the filters are told the contacts have; by default the simulator's own
+  // (matchedFrontendNoise), so that NEES tests the filters and not a mismatched noise model.
+  std::optional<FrontendNoise> frontend_noise;
   int runs = 20;            // M
   unsigned first_seed = 1;  // run j uses seed first_seed + j
   int threads = 0;          // 0: every hardware thread
@@ -35,6 +52,9 @@ struct MonteCarloOptions {
   // The initial state of run j from its log (default: the log's ground truth at row 0). The
   // convergence study uses it to start the filters away from the truth.
   std::function<EstimateSample(const io::Log&, int run)> initial_state;
+  // When set, each run's true initial biases and the error of its initial state (applied on top
+  // of initial_state) are drawn from this prior, from a stream of the run's seed.
+  std::optional<InitialPrior> prior;
   // Called once per run and estimator, from the worker thread, with the full result of that run
   // (trajectory, sigma, NEES) before it is reduced: for studies that need more than the metrics.
   // It must be safe to call from several threads at once.
@@ -52,6 +72,10 @@ struct MonteCarloEstimate {
   double fraction_inside = 0.0;
   double us_per_step = 0.0;  // mean over runs
 };
+
+// The contact noise a simulated log really has: the simulator's encoder noise, and its
+// kinematic-model error (SimOptions::foot_position_sigma) as the contact point's uncertainty.
+FrontendNoise matchedFrontendNoise(const sim::SimOptions& sim);
 
 // Throws std::invalid_argument for runs < 1; rethrows the first error of any run.
 std::vector<MonteCarloEstimate> monteCarlo(const MonteCarloOptions& options,
