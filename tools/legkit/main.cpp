@@ -2,9 +2,11 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "cassie_command.hpp"
 #include "lie_accuracy.hpp"
 #include "run_command.hpp"
 #include "sim_command.hpp"
+#include "study_command.hpp"
 #include "tour.hpp"
 
 int main(int argc, char** argv) {
@@ -26,6 +28,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
 
   legkit::tools::SimCommand sim(app);
+  legkit::tools::StudyCommand study(app);
+  legkit::tools::CassieCommand cassie(app);
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -33,6 +37,8 @@ int main(int argc, char** argv) {
     if (*tour) return legkit::tools::lieTour(std::cout, seed);
     if (*accuracy) return legkit::tools::lieAccuracy(std::cout, accuracyCsv, accuracyPoints);
     if (sim.parsed()) return sim.run(std::cout);
+    if (study.parsed()) return study.run(std::cout);
+    if (cassie.parsed()) return cassie.run(std::cout);
   } catch (const std::exception& e) {
     std::cerr << "legkit: " << e.what() << "\n";
     return 2;

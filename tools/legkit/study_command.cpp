@@ -1,0 +1,257 @@
+#include "study_command.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <mutex>
+#include <random>
+#include <sstream>
+
+#include "estimation/estimators.hpp"
+#include "eval/metrics.hpp"
+#include "eval/monte_carlo.hpp"
+#include "eval/runner.hpp"
+#include "study_filters.hpp"
+
+namespace legkit::tools {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::ofstream openCsv(const fs::path& path) {
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error("cannot write " + path.string());
+  f << std::setprecision(8);
+  return f;
+}
+
+std::string fixed(double value, int precision) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(precision) << value;
+  return os.str();
+}
+
+}  // namespace
+
+StudyCommand::StudyCommand(CLI::App& app)
+    : command_(app.add_subcommand("study", "Monte Carlo studies behind the chapters' figures")) {
+  command_->require_subcommand(1);
+  consistency_ = command_->add_subcommand(
+      "consistency", "ANEES of every filter over runs of the default trot (section 57.5)");
+  convergence_ = command_->add_subcommand(
+      "convergence", "Initial attitude error 0-90 deg: convergence of LKF, ESKF, InEKF (57.10)");
+  sweep_ = command_->add_subcommand(
+      "sweep", "Linear KF noise parameters over decades: bias-variance trade-off (ex. 57.4.2)");
+  for (CLI::App* c : {consistency_, convergence_, sweep_}) {
+    c->add_option("--runs", runs_, "Monte Carlo runs (per setting); default: the study's own");
+    c->add_option("--duration", duration_, "Simulated time per run [s]; default: the study's own");
+    c->add_option("--seed", seed_, "Seed of the first run (run j uses seed + j)")
+        ->capture_default_str();
+    c->add_option("--threads", threads_, "Worker threads (0: every core)")->capture_default_str();
+    c->add_option("--out", out_dir_, "Output folder (default legkit-out/study-<name>)");
+    c->add_flag("!--no-plots", plots_, "Do not draw the PNG figure");
+  }
+}
+
+int StudyCommand::run(std::ostream& out) const {
+  if (*consistency_) return consistency(out);
+  if (*convergence_) return convergence(out);
+  return sweep(out);
+}
+
+void StudyCommand::plot(std::ostream& out, const std::string& study, const std::string& dir) const {
+  if (!plots_) return;
+  const std::string command = "/usr/bin/python3 '" LEGKIT_SOURCE_DIR
+                              "/tools/plots/study_plots.py' " +
+                              study + " '" + dir + "' > /dev/null";
+  const bool drawn = std::system(command.c_str()) == 0;
+  out << (drawn ? "figure: " + dir + "/" + study + ".png\n"
+                : std::string("figure FAILED: is python3-matplotlib installed?\n"));
+}
+
+// ANEES_k of each filter (with its bounds) over `runs` runs of the default trot, every filter
+// started from the truth with its default parameters.
+int StudyCommand::consistency(std::ostream& out) const {
+  eval::MonteCarloOptions options;
+  options.runs = runs_ > 0 ? runs_ : 40;
+  options.sim.duration = duration_ > 0 ? duration_ : 60.0;
+  options.first_seed = seed_;
+  options.threads = threads_;
+  options.progress = true;
+  options.prior = eval::InitialPrior{};
+  std::vector<eval::NamedEstimator> filters;
+  for (const std::string& name : filterNames()) {
+    filters.push_back({name, [name] { return makeEstimator(name); }});
+  }
+  const std::vector<eval::MonteCarloEstimate> result = eval::monteCarlo(options, filters);
+
+  const fs::path dir = out_dir_.empty() ? fs::path("legkit-out/study-consistency") : fs::path(out_dir_);
+  fs::create_directories(dir);
+  std::ofstream csv = openCsv(dir / "consistency.csv");
+  csv << "# runs " << options.runs << '\n' << "filter,dof,lower,upper,t,anees\n";
+  const std::size_t every = 10;  // 100 Hz is plenty for the figure
+  for (const eval::MonteCarloEstimate& r : result) {
+    for (std::size_t k = 0; k < r.anees.size(); k += every) {
+      csv << r.name << ',' << r.dof << ',' << r.bounds.lower << ',' << r.bounds.upper << ','
+          << r.t[k] << ',' << r.anees[k] << '\n';
+    }
+  }
+
+  out << "Consistency on the default trot: " << options.runs << " runs x "
+      << options.sim.duration << " s, initial errors and biases drawn from the filters' prior\n\n"
+      << std::left << std::setw(16) << "filter" << std::right << std::setw(5) << "dof"
+      << std::setw(14) << "ANEES/dof" << std::setw(22) << "95 % bounds / dof" << std::setw(12)
+      << "inside [%]" << std::setw(14) << "pos RMSE [m]" << '\n';
+  for (const eval::MonteCarloEstimate& r : result) {
+    double pos = 0.0;
+    for (const eval::Metrics& m : r.runs) pos += m.position_rmse / r.runs.size();
+    out << std::left << std::setw(16) << r.name << std::right << std::setw(5) << r.dof
+        << std::setw(14) << fixed(r.mean_anees, 2) << std::setw(22)
+        << "[" + fixed(r.bounds.lower / r.dof, 2) + ", " + fixed(r.bounds.upper / r.dof, 2) + "]"
+        << std::setw(12) << fixed(100.0 * r.fraction_inside, 1) << std::setw(14) << fixed(pos, 3)
+        << '\n';
+  }
+  out << "\n(ANEES/dof: the mean over time of ANEES_k / dof; inside: the share of samples k whose "
+         "ANEES_k lies inside the bounds)\n";
+  plot(out, "consistency", dir.string());
+  return 0;
+}
+
+// Each filter started with its attitude turned by a given angle about a random axis (the same
+// axes for every filter), its initial attitude sigma set to that angle. A run has converged when
+// from some time t_c to the end its roll/pitch error stays below 2 degrees and its velocity
+// error below 0.1 m/s, with t_c at least 5 s before the end; yaw is unobservable and not judged.
+int StudyCommand::convergence(std::ostream& out) const {
+  const std::vector<std::string> names = {"linear-kf", "eskf", "invariant-ekf"};
+  std::vector<double> angles;
+  for (int a = 5; a <= 90; a += 5) angles.push_back(a);
+  const int runs = runs_ > 0 ? runs_ : 10;
+  const double duration = duration_ > 0 ? duration_ : 20.0;
+  constexpr double tilt_limit = 2.0 * M_PI / 180.0, velocity_limit = 0.1, settle = 5.0;
+
+  const fs::path dir = out_dir_.empty() ? fs::path("legkit-out/study-convergence") : fs::path(out_dir_);
+  fs::create_directories(dir);
+  std::ofstream csv = openCsv(dir / "convergence.csv");
+  csv << "# runs " << runs << " duration " << duration << '\n'
+      << "filter,angle_deg,runs,converged_fraction,median_time_s\n";
+  // table[angle][filter] = (fraction, median time)
+  std::vector<std::vector<std::pair<double, double>>> table(angles.size());
+  for (std::size_t a = 0; a < angles.size(); ++a) {
+    const double angle = angles[a] * M_PI / 180.0;
+    eval::MonteCarloOptions options;
+    options.runs = runs;
+    options.sim.duration = duration;
+    options.first_seed = seed_;
+    options.threads = threads_;
+    options.initial_state = [angle, this](const io::Log& log, int run) {
+      std::mt19937 rng(seed_ * 7919u + static_cast<unsigned>(run));
+      std::normal_distribution<double> n;
+      const Eigen::Vector3d axis = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+      EstimateSample x0 = eval::initialState(log);
+      x0.q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis)) * x0.q;
+      return x0;
+    };
+    std::vector<std::vector<double>> times(names.size());  // convergence times, converged runs
+    std::mutex mutex;
+    options.on_run = [&](int, std::size_t e, const io::Log& log, const eval::RunResult& run) {
+      const double t_end = log.rows.back().t;
+      double t_c = log.rows.front().t;  // the last time the limits were broken
+      for (std::size_t k = 0; k < log.rows.size(); ++k) {
+        const io::LogRow& row = log.rows[k];
+        const EstimateSample& x = run.trajectory[k];
+        const bool ok = eval::tiltError(x.q.toRotationMatrix(), row.gt_q.toRotationMatrix()) <
+                            tilt_limit &&
+                        (x.v - row.gt_v).norm() < velocity_limit;
+        if (!ok) t_c = row.t;
+      }
+      if (t_c <= t_end - settle) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        times[e].push_back(t_c - log.rows.front().t);
+      }
+    };
+    std::vector<eval::NamedEstimator> filters;
+    for (const std::string& name : names) {
+      filters.push_back({name, [name, angle] { return makeWithInitialAttitudeSigma(name, angle); }});
+    }
+    eval::monteCarlo(options, filters);
+    for (std::size_t e = 0; e < names.size(); ++e) {
+      std::vector<double>& t = times[e];
+      std::sort(t.begin(), t.end());
+      const double fraction = static_cast<double>(t.size()) / runs;
+      const double median = t.empty() ? NAN : t[t.size() / 2];
+      table[a].emplace_back(fraction, median);
+      csv << names[e] << ',' << angles[a] << ',' << runs << ',' << fraction << ',' << median
+          << '\n';
+    }
+    out << "\r" << angles[a] << " deg done" << std::flush;
+  }
+  out << "\r";
+
+  out << "Convergence from a wrong initial attitude (" << runs << " runs x " << duration
+      << " s of trot per angle; converged: roll/pitch < 2 deg and velocity < 0.1 m/s from t_c "
+         "on)\n\n"
+      << std::left << std::setw(10) << "angle";
+  for (const std::string& name : names) out << std::setw(26) << name;
+  out << "\n" << std::setw(10) << "[deg]";
+  for (std::size_t e = 0; e < names.size(); ++e) out << std::setw(26) << "converged, median t_c";
+  out << '\n';
+  for (std::size_t a = 0; a < angles.size(); ++a) {
+    out << std::setw(10) << angles[a];
+    for (const auto& [fraction, median] : table[a]) {
+      out << std::setw(26)
+          << fixed(100.0 * fraction, 0) + " %, " + (std::isnan(median) ? "-" : fixed(median, 2) + " s");
+    }
+    out << '\n';
+  }
+  plot(out, "convergence", dir.string());
+  return 0;
+}
+
+// The linear KF with one noise parameter at a time scaled from 1e-3 to 1e3 times its nominal
+// value: mean position and velocity RMSE and ANEES/dof over the runs.
+int StudyCommand::sweep(std::ostream& out) const {
+  const int runs = runs_ > 0 ? runs_ : 10;
+  const double duration = duration_ > 0 ? duration_ : 20.0;
+  const fs::path dir = out_dir_.empty() ? fs::path("legkit-out/study-sweep") : fs::path(out_dir_);
+  fs::create_directories(dir);
+  std::ofstream csv = openCsv(dir / "sweep.csv");
+  csv << "# runs " << runs << " duration " << duration << '\n'
+      << "parameter,scale,position_rmse,velocity_rmse,anees\n";
+  const char* parameters[] = {"foot process noise", "accelerometer noise", "measurement noise"};
+  out << "Linear KF parameter sweep (" << runs << " runs x " << duration << " s of trot each)\n\n"
+      << std::left << std::setw(22) << "parameter" << std::right << std::setw(9) << "scale"
+      << std::setw(14) << "pos RMSE [m]" << std::setw(16) << "vel RMSE [m/s]" << std::setw(11)
+      << "ANEES/dof" << '\n';
+  for (int p = 0; p < 3; ++p) {
+    for (int i = -6; i <= 6; ++i) {
+      const double scale = std::pow(10.0, 0.5 * i);
+      LinearKfScales scales;
+      (p == 0 ? scales.foot_process_noise : p == 1 ? scales.accel_noise : scales.measurement_noise) =
+          scale;
+      eval::MonteCarloOptions options;
+      options.runs = runs;
+      options.sim.duration = duration;
+      options.first_seed = seed_;
+      options.threads = threads_;
+      const auto r =
+          eval::monteCarlo(options, {{"linear-kf", [scales] { return makeLinearKf(scales); }}});
+      double pos = 0.0, vel = 0.0;
+      for (const eval::Metrics& m : r[0].runs) {
+        pos += m.position_rmse / runs;
+        vel += m.velocity_rmse / runs;
+      }
+      csv << parameters[p] << ',' << scale << ',' << pos << ',' << vel << ',' << r[0].mean_anees
+          << '\n';
+      out << std::left << std::setw(22) << parameters[p] << std::right << std::setw(9)
+          << fixed(scale, 3) << std::setw(14) << fixed(pos, 4) << std::setw(16) << fixed(vel, 4)
+          << std::setw(11) << fixed(r[0].mean_anees, 2) << '\n';
+    }
+  }
+  plot(out, "sweep", dir.string());
+  return 0;
+}
+
+}  // namespace legkit::tools

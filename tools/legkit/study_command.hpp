@@ -1,0 +1,44 @@
+// `legkit study`: the Monte Carlo studies that reproduce the chapter's claims, each writing its
+// data (CSV) and its figure (PNG, drawn by tools/plots/study_plots.py) into an output folder.
+//   legkit study consistency   ANEES of every filter over runs of the default trot, with the
+//                              95 % chi-square bounds (section 57.5)
+//   legkit study convergence   initial attitude error 0..90 degrees: converged or not and time
+//                              to converge, linear KF, ESKF and InEKF (section 57.10)
+//   legkit study sweep         the linear KF's noise parameters scaled over decades: accuracy
+//                              and consistency, the bias-variance trade-off (exercise 57.4.2)
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <ostream>
+#include <string>
+
+namespace legkit::tools {
+
+class StudyCommand {
+ public:
+  explicit StudyCommand(CLI::App& app);
+  StudyCommand(const StudyCommand&) = delete;  // the options are bound to this object's members
+  StudyCommand& operator=(const StudyCommand&) = delete;
+
+  bool parsed() const { return static_cast<bool>(*command_); }
+  int run(std::ostream& out) const;
+
+ private:
+  int consistency(std::ostream& out) const;
+  int convergence(std::ostream& out) const;
+  int sweep(std::ostream& out) const;
+  void plot(std::ostream& out, const std::string& study, const std::string& dir) const;
+
+  CLI::App* command_;
+  CLI::App* consistency_;
+  CLI::App* convergence_;
+  CLI::App* sweep_;
+  int runs_ = 0;          // 0: the study's own default
+  double duration_ = 0;   // 0: the study's own default [s]
+  unsigned seed_ = 1;
+  int threads_ = 0;
+  std::string out_dir_;
+  bool plots_ = true;
+};
+
+}  // namespace legkit::tools

@@ -1,0 +1,30 @@
+// The filters the studies compare, built with the one parameter each study varies.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "estimation/estimator.hpp"
+
+namespace legkit::tools {
+
+// The estimators that keep a covariance (sections 57.4 and 57.5), in the chapter's order.
+std::vector<std::string> filterNames();
+
+// A filter with its default parameters except its initial attitude standard deviation [rad],
+// which the convergence study sets to the initial error it applies. Only for the filters that
+// estimate attitude (or, for the linear KF, whose attitude filter starts with that error).
+std::unique_ptr<Estimator> makeWithInitialAttitudeSigma(const std::string& name, double sigma);
+
+// The linear KF with three of its noise variances multiplied by a factor each (exercise 57.4.2):
+// the stance feet's process noise sigma_f^2, the accelerometer noise that drives its prediction,
+// and the kinematic measurement noise R (the contacts' covariance as the filter receives it).
+struct LinearKfScales {
+  double foot_process_noise = 1.0;
+  double accel_noise = 1.0;
+  double measurement_noise = 1.0;
+};
+std::unique_ptr<Estimator> makeLinearKf(const LinearKfScales& scales);
+
+}  // namespace legkit::tools
