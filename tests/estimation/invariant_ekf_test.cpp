@@ -30,6 +30,9 @@
 namespace {
 std::atomic<long> g_allocations{0};
 }
+// GCC 12 sees std::vector's inlined sized delete call free() on memory from its own inlined
+// operator new and warns; both are the replacements below, which pair malloc with free.
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
 void* operator new(std::size_t size) {
   ++g_allocations;
   if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
