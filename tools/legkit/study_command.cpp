@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "estimation/estimators.hpp"
+#include "eval/bias_variance.hpp"
 #include "eval/metrics.hpp"
 #include "eval/monte_carlo.hpp"
 #include "eval/runner.hpp"
@@ -210,20 +211,24 @@ int StudyCommand::convergence(std::ostream& out) const {
   return 0;
 }
 
-// The linear KF with one noise parameter at a time scaled from 1e-3 to 1e3 times its nominal
-// value: mean position and velocity RMSE and ANEES/dof over the runs.
+// The linear KF with one noise variance at a time scaled from 1e-3 to 1e3 times its nominal
+// value: mean position RMSE, the velocity error split into bias and variance
+// (eval/bias_variance.hpp, 1 s window), and ANEES/dof over the runs.
 int StudyCommand::sweep(std::ostream& out) const {
   const int runs = runs_ > 0 ? runs_ : 10;
   const double duration = duration_ > 0 ? duration_ : 20.0;
+  constexpr double window = 1.0;  // [s], two strides of the default trot
   const fs::path dir = out_dir_.empty() ? fs::path("legkit-out/study-sweep") : fs::path(out_dir_);
   fs::create_directories(dir);
   std::ofstream csv = openCsv(dir / "sweep.csv");
-  csv << "# runs " << runs << " duration " << duration << '\n'
-      << "parameter,scale,position_rmse,velocity_rmse,anees\n";
+  csv << "# runs " << runs << " duration " << duration << " window " << window << '\n'
+      << "parameter,scale,position_rmse,velocity_rmse,velocity_bias,velocity_variance,anees\n";
   const char* parameters[] = {"foot process noise", "accelerometer noise", "measurement noise"};
-  out << "Linear KF parameter sweep (" << runs << " runs x " << duration << " s of trot each)\n\n"
+  out << "Linear KF parameter sweep (" << runs << " runs x " << duration << " s of trot each; "
+      << "velocity error split over a " << window << " s window)\n\n"
       << std::left << std::setw(22) << "parameter" << std::right << std::setw(9) << "scale"
-      << std::setw(14) << "pos RMSE [m]" << std::setw(16) << "vel RMSE [m/s]" << std::setw(11)
+      << std::setw(14) << "pos RMSE [m]" << std::setw(16) << "vel RMSE [m/s]" << std::setw(16)
+      << "vel bias [m/s]" << std::setw(20) << "vel variance [m2/s2]" << std::setw(11)
       << "ANEES/dof" << '\n';
   for (int p = 0; p < 3; ++p) {
     for (int i = -6; i <= 6; ++i) {
@@ -236,6 +241,15 @@ int StudyCommand::sweep(std::ostream& out) const {
       options.sim.duration = duration;
       options.first_seed = seed_;
       options.threads = threads_;
+      options.frontend_noise = scaledFrontendNoise(eval::matchedFrontendNoise(options.sim), scales);
+      double bias2 = 0.0, variance = 0.0;
+      std::mutex mutex;
+      options.on_run = [&](int, std::size_t, const io::Log& log, const eval::RunResult& run) {
+        const eval::BiasVariance bv = eval::velocityBiasVariance(log, run.trajectory, window);
+        const std::lock_guard<std::mutex> lock(mutex);
+        bias2 += bv.bias * bv.bias / runs;
+        variance += bv.variance / runs;
+      };
       const auto r =
           eval::monteCarlo(options, {{"linear-kf", [scales] { return makeLinearKf(scales); }}});
       double pos = 0.0, vel = 0.0;
@@ -243,10 +257,12 @@ int StudyCommand::sweep(std::ostream& out) const {
         pos += m.position_rmse / runs;
         vel += m.velocity_rmse / runs;
       }
-      csv << parameters[p] << ',' << scale << ',' << pos << ',' << vel << ',' << r[0].mean_anees
-          << '\n';
+      const double bias = std::sqrt(bias2);
+      csv << parameters[p] << ',' << scale << ',' << pos << ',' << vel << ',' << bias << ','
+          << variance << ',' << r[0].mean_anees << '\n';
       out << std::left << std::setw(22) << parameters[p] << std::right << std::setw(9)
           << fixed(scale, 3) << std::setw(14) << fixed(pos, 4) << std::setw(16) << fixed(vel, 4)
+          << std::setw(16) << fixed(bias, 4) << std::setw(20) << fixed(variance, 6)
           << std::setw(11) << fixed(r[0].mean_anees, 2) << '\n';
     }
   }

@@ -10,30 +10,6 @@
 #include "estimation/linear_kf/linear_kf.hpp"
 
 namespace legkit::tools {
-namespace {
-
-// Passes every step on with the contacts' covariances multiplied by `scale`: the measurement
-// noise the filter assumes, while the simulated noise stays what it is.
-class ScaledContactNoise final : public Estimator {
- public:
-  ScaledContactNoise(std::unique_ptr<Estimator> inner, double scale)
-      : inner_(std::move(inner)), scale_(scale) {}
-  std::string name() const override { return inner_->name(); }
-  void reset(const EstimateSample& x0) override { inner_->reset(x0); }
-  void step(const StepInput& in) override {
-    StepInput scaled = in;
-    for (int i = 0; i < scaled.num_contacts; ++i) scaled.contacts[i].cov *= scale_;
-    inner_->step(scaled);
-  }
-  EstimateSample estimate() const override { return inner_->estimate(); }
-  std::optional<BaseCovariance> covariance() const override { return inner_->covariance(); }
-
- private:
-  std::unique_ptr<Estimator> inner_;
-  double scale_;
-};
-
-}  // namespace
 
 std::vector<std::string> filterNames() { return {"linear-kf", "eskf", "invariant-ekf", "tsif"}; }
 
@@ -66,9 +42,13 @@ std::unique_ptr<Estimator> makeLinearKf(const LinearKfScales& scales) {
   linear_kf::LinearKfParams p;
   p.foot_stance_density *= std::sqrt(scales.foot_process_noise);  // sigma_f^2 x scale
   p.imu.accel_noise_density *= std::sqrt(scales.accel_noise);     // sigma_a^2 x scale
-  auto filter = std::make_unique<linear_kf::LinearKf>(p);
-  if (scales.measurement_noise == 1.0) return filter;
-  return std::make_unique<ScaledContactNoise>(std::move(filter), scales.measurement_noise);
+  p.foot_velocity_sigma *= std::sqrt(scales.measurement_noise);  // R of the velocity rows
+  return std::make_unique<linear_kf::LinearKf>(p);
+}
+
+FrontendNoise scaledFrontendNoise(const FrontendNoise& nominal, const LinearKfScales& scales) {
+  const double k = std::sqrt(scales.measurement_noise);  // both terms of R_i scale as sigma^2
+  return {nominal.encoder_angle_sigma * k, nominal.foot_point_sigma * k};
 }
 
 }  // namespace legkit::tools

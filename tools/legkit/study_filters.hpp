@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "estimation/estimator.hpp"
+#include "estimation/log_frontend.hpp"
 
 namespace legkit::tools {
 
@@ -19,12 +20,14 @@ std::unique_ptr<Estimator> makeWithInitialAttitudeSigma(const std::string& name,
 
 // The linear KF with three of its noise variances multiplied by a factor each (exercise 57.4.2):
 // the stance feet's process noise sigma_f^2, the accelerometer noise that drives its prediction,
-// and the kinematic measurement noise R (the contacts' covariance as the filter receives it).
+// and the kinematic measurement noise R. R has two sources: the front end's contact covariance
+// (scaledFrontendNoise) and the filter's own leg-velocity noise; both are scaled.
 struct LinearKfScales {
   double foot_process_noise = 1.0;
   double accel_noise = 1.0;
   double measurement_noise = 1.0;
 };
 std::unique_ptr<Estimator> makeLinearKf(const LinearKfScales& scales);
+FrontendNoise scaledFrontendNoise(const FrontendNoise& nominal, const LinearKfScales& scales);
 
 }  // namespace legkit::tools

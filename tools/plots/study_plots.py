@@ -65,29 +65,34 @@ def convergence(folder):
 
 
 def sweep(folder):
-    data = defaultdict(lambda: {"scale": [], "pos": [], "vel": [], "anees": []})
+    keys = ("scale", "position_rmse", "velocity_bias", "velocity_variance", "anees")
+    data = defaultdict(lambda: {k: [] for k in keys})
     for r in rows(f"{folder}/sweep.csv"):
         d = data[r["parameter"]]
-        d["scale"].append(float(r["scale"]))
-        d["pos"].append(float(r["position_rmse"]))
-        d["vel"].append(float(r["velocity_rmse"]))
-        d["anees"].append(float(r["anees"]))
+        for k in keys:
+            d[k].append(float(r[k]))
     fig, axes = plt.subplots(3, len(data), figsize=(4 * len(data), 7.5), sharex=True,
                              squeeze=False)
     for col, (name, d) in enumerate(data.items()):
-        axes[0][col].loglog(d["scale"], d["pos"], "o-", ms=3)
-        axes[1][col].loglog(d["scale"], d["vel"], "o-", ms=3, color="C1")
+        bias2 = [b * b for b in d["velocity_bias"]]
+        total = [b + v for b, v in zip(bias2, d["velocity_variance"])]
+        ax = axes[0][col]
+        ax.loglog(d["scale"], bias2, "o-", ms=3, label="bias$^2$ (slow part)")
+        ax.loglog(d["scale"], d["velocity_variance"], "s-", ms=3, label="variance (fast part)")
+        ax.loglog(d["scale"], total, "k--", lw=1, label="sum")
+        ax.set_title(name, fontsize=9)
+        axes[1][col].loglog(d["scale"], d["position_rmse"], "o-", ms=3, color="C3")
         axes[2][col].loglog(d["scale"], d["anees"], "o-", ms=3, color="C2")
         axes[2][col].axhline(1.0, color="k", lw=0.8)
-        axes[0][col].set_title(name, fontsize=9)
-        axes[2][col].set_xlabel("scale of the nominal value")
+        axes[2][col].set_xlabel("variance scale (x nominal)")
         for row in range(3):
             axes[row][col].grid(True, which="both", alpha=0.3)
             axes[row][col].axvline(1.0, color="grey", lw=0.8, ls=":")
-    axes[0][0].set_ylabel("position RMSE [m]")
-    axes[1][0].set_ylabel("velocity RMSE [m/s]")
+    axes[0][0].legend(fontsize=7)
+    axes[0][0].set_ylabel("velocity error [m$^2$/s$^2$]")
+    axes[1][0].set_ylabel("position RMSE [m]")
     axes[2][0].set_ylabel("ANEES / dof")
-    fig.suptitle("Linear KF: one noise parameter scaled at a time")
+    fig.suptitle("Linear KF: one noise variance scaled at a time (bias-variance trade-off)")
     fig.tight_layout()
     fig.savefig(f"{folder}/sweep.png", dpi=120)
 
