@@ -7,8 +7,7 @@
 
 namespace legkit::eval {
 
-BiasVariance velocityBiasVariance(const io::Log& truth, const Trajectory& estimate,
-                                  double window) {
+BiasVariance velocityBiasVariance(const io::Log& truth, const Trajectory& estimate, double window) {
   if (!truth.layout.ground_truth) {
     throw std::invalid_argument("velocityBiasVariance: the log has no ground truth");
   }

@@ -72,7 +72,8 @@ std::vector<MonteCarloEstimate> monteCarlo(const MonteCarloOptions& options,
         EstimateSample x0 =
             options.initial_state ? options.initial_state(log, j) : initialState(log);
         if (options.prior) {  // truth = x0 (+) e, so x0 = truth (-) e
-          const Eigen::Matrix3d dR = lie::SO3d::Exp(-normal3(rng, options.prior->attitude)).matrix();
+          const Eigen::Matrix3d dR =
+              lie::SO3d::Exp(-normal3(rng, options.prior->attitude)).matrix();
           x0.q = Eigen::Quaterniond(dR * x0.q.toRotationMatrix());
           x0.v -= normal3(rng, options.prior->velocity);
           x0.p -= normal3(rng, options.prior->position);

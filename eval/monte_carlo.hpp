@@ -41,7 +41,7 @@ struct InitialPrior {
 };
 
 struct MonteCarloOptions {
-  sim::SimOptions sim;      // scenario, duration, noise; its seed is replaced per run
+  sim::SimOptions sim;  // scenario, duration, noise; its seed is replaced per run
   // The noise the filters are told the contacts have; by default the simulator's own
   // (matchedFrontendNoise), so that NEES tests the filters and not a mismatched noise model.
   std::optional<FrontendNoise> frontend_noise;

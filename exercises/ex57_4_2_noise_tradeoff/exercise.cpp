@@ -15,8 +15,7 @@ legkit::FrontendNoise frontendNoise(const Scales& /*scales*/,
   throw legkit::NotImplemented("frontendNoise");
 }
 
-legkit::eval::BiasVariance tradeoffPoint(const legkit::io::Log& /*log*/,
-                                         const Scales& /*scales*/,
+legkit::eval::BiasVariance tradeoffPoint(const legkit::io::Log& /*log*/, const Scales& /*scales*/,
                                          const legkit::FrontendNoise& /*nominal*/,
                                          double /*window*/) {
   throw legkit::NotImplemented("tradeoffPoint");

@@ -576,13 +576,13 @@ struct NeesResult {
 // times prior_scale, both in the filter and in the draw), so the claimed covariance is right at
 // t = 0 and NEES measures how well the filter keeps it right.
 NeesResult monteCarloNees(InvariantEkfParams params, const FrontendNoise& frontend,
-                          double prior_scale = 1.0, int kRuns = 20) {
+                          double prior_scale = 1.0, int runs = 20) {
   constexpr double kDuration = 5.0;
   params.sigma_attitude *= prior_scale;
   params.sigma_velocity *= prior_scale;
   params.sigma_position *= prior_scale;
   std::vector<double> anees;  // ANEES_k, per row
-  for (int run = 0; run < kRuns; ++run) {
+  for (int run = 0; run < runs; ++run) {
     std::mt19937 gen(1000 + run);
     model::ImuBias bias;
     bias.b_g = normal3(gen, params.sigma_gyro_bias);
@@ -598,10 +598,10 @@ NeesResult monteCarloNees(InvariantEkfParams params, const FrontendNoise& fronte
     const eval::RunResult result = eval::runOnLog(
         filter, log, LogFrontend(log.layout, model::QuadrupedKinematics(), frontend), x0);
     if (anees.empty()) anees.assign(result.nees.size(), 0.0);
-    for (std::size_t k = 0; k < anees.size(); ++k) anees[k] += result.nees[k] / kRuns;
+    for (std::size_t k = 0; k < anees.size(); ++k) anees[k] += result.nees[k] / runs;
   }
   NeesResult r;
-  r.bounds = eval::aneesBounds(9, kRuns);
+  r.bounds = eval::aneesBounds(9, runs);
   int inside = 0;
   for (const double a : anees) {
     r.mean += a / anees.size();
@@ -621,8 +621,8 @@ FrontendNoise simulatorFrontend() {
 
 std::string describe(const NeesResult& r) {
   std::ostringstream os;
-  os << "ANEES: mean " << r.mean << " (9 dof), bounds [" << r.bounds.lower << ", "
-     << r.bounds.upper << "], " << 100 * r.fraction << " % of rows inside";
+  os << "ANEES: mean " << r.mean << " (9 dof), bounds [" << r.bounds.lower << ", " << r.bounds.upper
+     << "], " << 100 * r.fraction << " % of rows inside";
   return os.str();
 }
 

@@ -53,7 +53,8 @@ TEST_CASE("an error alternating every row is all variance", "[eval]") {
 TEST_CASE("a slow ramp is bias, a fast one variance, depending on the window", "[eval]") {
   const auto log = still();
   Trajectory est = copyOf(log);
-  for (std::size_t k = 0; k < est.size(); ++k) est[k].v.y() = 0.1 * std::sin(2 * M_PI * log.rows[k].t);
+  for (std::size_t k = 0; k < est.size(); ++k)
+    est[k].v.y() = 0.1 * std::sin(2 * M_PI * log.rows[k].t);
   const auto narrow = velocityBiasVariance(log, est, 0.01);  // 1 Hz is slow against 10 ms
   const auto wide = velocityBiasVariance(log, est, 1.0);     // and averages out over 1 s
   CHECK(narrow.bias > 0.9 * 0.1 / std::sqrt(2.0));

@@ -78,8 +78,7 @@ TEST_CASE("ex57.4.2: at the nominal settings tradeoffPoint is the plain linear K
 // part grows tenfold, the slow part does not move. (c) Trusting the kinematics less (R x 1000)
 // smooths more and lets the error wander: the slow part grows by half. (a) The simulated feet
 // never slip, so a loose foot model only costs variance, a tight one nothing.
-TEST_CASE("ex57.4.2: the noise settings trade the slow error against the fast one",
-          "[ex57.4.2]") {
+TEST_CASE("ex57.4.2: the noise settings trade the slow error against the fast one", "[ex57.4.2]") {
   const io::Log& log = trotLog();
   const auto point = [&](double a, double b, double c) {
     return ex57_4_2::tradeoffPoint(log, {a, b, c}, kMatched, kWindow);

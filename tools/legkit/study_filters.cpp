@@ -11,7 +11,9 @@
 
 namespace legkit::tools {
 
-std::vector<std::string> filterNames() { return {"linear-kf", "eskf", "invariant-ekf", "tsif"}; }
+std::vector<std::string> filterNames() {
+  return {"linear-kf", "eskf", "invariant-ekf", "tsif"};
+}
 
 std::unique_ptr<Estimator> makeWithInitialAttitudeSigma(const std::string& name, double sigma) {
   if (name == "linear-kf") {
@@ -42,7 +44,7 @@ std::unique_ptr<Estimator> makeLinearKf(const LinearKfScales& scales) {
   linear_kf::LinearKfParams p;
   p.foot_stance_density *= std::sqrt(scales.foot_process_noise);  // sigma_f^2 x scale
   p.imu.accel_noise_density *= std::sqrt(scales.accel_noise);     // sigma_a^2 x scale
-  p.foot_velocity_sigma *= std::sqrt(scales.measurement_noise);  // R of the velocity rows
+  p.foot_velocity_sigma *= std::sqrt(scales.measurement_noise);   // R of the velocity rows
   return std::make_unique<linear_kf::LinearKf>(p);
 }
 
