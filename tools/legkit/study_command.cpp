@@ -84,6 +84,7 @@ int StudyCommand::consistency(std::ostream& out) const {
   options.progress = true;
   options.prior = eval::InitialPrior{};
   std::vector<eval::NamedEstimator> filters;
+  filters.reserve(filterNames().size());
   for (const std::string& name : filterNames()) {
     filters.push_back({name, [name] { return makeEstimator(name); }});
   }
@@ -179,6 +180,7 @@ int StudyCommand::convergence(std::ostream& out) const {
       }
     };
     std::vector<eval::NamedEstimator> filters;
+    filters.reserve(names.size());
     for (const std::string& name : names) {
       filters.push_back(
           {name, [name, angle] { return makeWithInitialAttitudeSigma(name, angle); }});
