@@ -89,3 +89,45 @@ TEST_CASE("the Monte Carlo runner averages NEES over runs, whatever the thread c
   options.runs = 0;
   CHECK_THROWS_AS(eval::monteCarlo(options, estimators), std::invalid_argument);
 }
+
+TEST_CASE("the Monte Carlo prior draws each run's initial error and IMU biases, reproducibly",
+          "[eval]") {
+  eval::MonteCarloOptions options;
+  options.sim.duration = 0.2;  // standing: the gyro reads its bias plus noise
+  options.runs = 4;
+  const std::vector<eval::NamedEstimator> estimators{
+      {"stand-still", [] { return std::make_unique<StandStill>(); }}};
+  // Per run: the initial velocity error, and the mean gyro reading over the standing log.
+  const auto draws = [&](int threads, bool prior) {
+    std::vector<Eigen::Vector3d> dv(options.runs), gyro(options.runs);
+    options.threads = threads;
+    options.prior.reset();
+    if (prior) options.prior = eval::InitialPrior{};
+    options.on_run = [&](int run, std::size_t, const io::Log& log, const eval::RunResult& r) {
+      dv[run] = r.trajectory.front().v - log.rows.front().gt_v;
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for (const io::LogRow& row : log.rows) sum += row.gyro;
+      gyro[run] = sum / static_cast<double>(log.rows.size());
+    };
+    eval::monteCarlo(options, estimators);
+    return std::make_pair(dv, gyro);
+  };
+  const auto [dv, gyro] = draws(1, true);
+  const auto [dv2, gyro2] = draws(2, true);
+  const auto [dv0, gyro0] = draws(1, false);
+  CHECK(dv == dv2);  // the draw belongs to the run, not to the thread
+  CHECK(gyro == gyro2);
+  const double sigma_bg = eval::InitialPrior{}.gyro_bias, sigma_v = eval::InitialPrior{}.velocity;
+  for (int j = 0; j < options.runs; ++j) {
+    CAPTURE(j);
+    CHECK(dv0[j].norm() == 0.0);  // without a prior, every run starts from the truth
+    CHECK(dv[j].norm() > 0.0);
+    CHECK(dv[j].cwiseAbs().maxCoeff() < 5 * sigma_v);
+    // Same seed, same noise: the readings differ by the drawn (constant) bias plus its random
+    // walk over 0.2 s, which is far smaller.
+    const Eigen::Vector3d bias = gyro[j] - gyro0[j];
+    CHECK(bias.norm() > 1e-2 * sigma_bg);
+    CHECK(bias.cwiseAbs().maxCoeff() < 5 * sigma_bg);
+  }
+  CHECK(dv[0] != dv[1]);
+}
