@@ -17,7 +17,7 @@ legkit::linear_kf::LinearKfParams filterParams(const Scales& scales,
   return p;
 }
 
-// R_i = R_hat (J Sigma_theta J^T + sigma_c^2 I) R_hat^T: both terms scale with their variance.
+// R_i = R_hat (J Sigma_q J^T + sigma_c^2 I) R_hat^T: both terms scale with their variance.
 legkit::FrontendNoise frontendNoise(const Scales& scales, const legkit::FrontendNoise& nominal) {
   const double k = std::sqrt(scales.measurement_noise);
   return {nominal.encoder_angle_sigma * k, nominal.foot_point_sigma * k};

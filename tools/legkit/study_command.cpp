@@ -43,7 +43,7 @@ StudyCommand::StudyCommand(CLI::App& app)
   consistency_ = command_->add_subcommand(
       "consistency", "ANEES of every filter over runs of the default trot (section 57.5)");
   convergence_ = command_->add_subcommand(
-      "convergence", "Initial attitude error 0-90 deg: convergence of LKF, ESKF, InEKF (57.10)");
+      "convergence", "Initial attitude error 5-90 deg: convergence of LKF, ESKF, InEKF (57.10)");
   sweep_ = command_->add_subcommand(
       "sweep", "Linear KF noise parameters over decades: bias-variance trade-off (ex. 57.4.2)");
   for (CLI::App* c : {consistency_, convergence_, sweep_}) {
@@ -73,8 +73,8 @@ void StudyCommand::plot(std::ostream& out, const std::string& study, const std::
                 : std::string("figure FAILED: is python3-matplotlib installed?\n"));
 }
 
-// ANEES_k of each filter (with its bounds) over `runs` runs of the default trot, every filter
-// started from the truth with its default parameters.
+// ANEES_k of each filter (with its bounds) over `runs` runs of the default trot, every filter with
+// its default parameters; each run's initial error and IMU biases drawn from eval::InitialPrior.
 int StudyCommand::consistency(std::ostream& out) const {
   eval::MonteCarloOptions options;
   options.runs = runs_ > 0 ? runs_ : 40;
