@@ -3,7 +3,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "estimation/estimators.hpp"
 #include "estimation/invariant/eskf.hpp"
 #include "estimation/invariant/invariant_ekf.hpp"
 #include "estimation/invariant/tsif.hpp"
