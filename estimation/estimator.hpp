@@ -7,6 +7,7 @@
 #include <string>
 
 #include "estimation/estimate.hpp"
+#include "estimation/health.hpp"
 #include "estimation/step_input.hpp"
 
 namespace legkit {
@@ -24,6 +25,25 @@ struct BaseCovariance {
   bool has_attitude = true;
 };
 
+// The contract every estimator keeps (tests/estimation/estimator_contract_test.cpp checks it for
+// all of them on the same inputs):
+//  - reset(x0) starts over from x0 with the estimator's prior covariance and clears health().
+//  - The first sample after reset() is never integrated, whatever its dt: there is no earlier IMU
+//    sample to hold over the interval. Its contacts are used.
+//  - dt == 0 later on (two samples at one instant): nothing is integrated; contacts are used.
+//  - 0 < dt <= InputLimits::max_dt: the previous admitted IMU sample is held over dt.
+//  - dt > max_dt: a gap (Fault::kTimeGap). Nothing is integrated across it; the state is kept,
+//    the covariance returns to the prior and the sample is treated as a first sample.
+//  - An IMU sample beyond the sensor's range (Fault::kGyroRange, kAccelRange) is not admitted:
+//    the previous admitted sample stays held over the next interval. A stance foot beyond range
+//    (kContactRange) is dropped from that sample.
+//  - Input no caller can mean (non-finite numbers, dt < 0, a foot id outside the estimator's
+//    capacity or given twice, a covariance that is not symmetric positive definite) throws
+//    std::invalid_argument naming the field and the time, before anything changes.
+//  - After every step the estimate is finite and, for a filter, P is finite, symmetric and has a
+//    positive diagonal (checked each step, with a full LDLT factorisation at a fixed interval). If
+//    not, the filter recovers (kStateUnhealthy): it returns to the last state that passed the full
+//    check, with the prior covariance. estimate() is never NaN.
 class Estimator {
  public:
   virtual ~Estimator() = default;
@@ -35,6 +55,11 @@ class Estimator {
   virtual EstimateSample estimate() const = 0;
   // The covariance of estimate(), for filters; none for estimators that do not keep one.
   virtual std::optional<BaseCovariance> covariance() const { return std::nullopt; }
+  // Inputs rejected and recoveries since the last reset() (estimation/health.hpp).
+  const Health& health() const { return health_; }
+
+ protected:
+  Health health_;
 };
 
 }  // namespace legkit

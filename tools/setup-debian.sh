@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages legkit needs, if any are missing. Run as root.
 set -euo pipefail
 packages=(
-  cmake g++ make
+  cmake g++ make ccache clang
   libeigen3-dev catch2 librapidcheck-dev libceres-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev
   libmujoco-dev libqhull-dev libgl-dev
