@@ -8,6 +8,7 @@
 
 #include "estimation/estimate.hpp"
 #include "estimation/health.hpp"
+#include "estimation/health_guard.hpp"
 #include "estimation/step_input.hpp"
 
 namespace legkit {
@@ -49,7 +50,7 @@ class Estimator {
   virtual ~Estimator() = default;
   virtual std::string name() const = 0;
   // Restarts from the state x0 (its time is the time of the first sample that follows).
-  virtual void reset(const EstimateSample& x0) = 0;
+  virtual void reset(const EstimateSample& x0) = 0;  // implementations clear health_
   // Consumes one IMU sample and the contacts measured with it.
   virtual void step(const StepInput& in) = 0;
   virtual EstimateSample estimate() const = 0;
@@ -59,7 +60,27 @@ class Estimator {
   const Health& health() const { return health_; }
 
  protected:
+  // For reset(): a new health record, and x0 as the last good state.
+  void startHealth(const EstimateSample& x0) {
+    health_ = Health{};
+    guard_.reset(x0);
+  }
+  // Restarts from x keeping the health record: the gap rule above.
+  void restart(const EstimateSample& x) {
+    const Health kept = health_;
+    reset(x);
+    health_ = kept;
+  }
+  // The recovery rule: back to the last good state, at time t, with the prior covariance.
+  void recover(double t) {
+    health_.record(Fault::kStateUnhealthy, t);
+    EstimateSample x = guard_.lastGood();
+    x.t = t;
+    restart(x);
+  }
+
   Health health_;
+  HealthGuard guard_;
 };
 
 }  // namespace legkit

@@ -27,7 +27,13 @@ struct InputLimits {
   double accel_max = 156.90640;          // [m/s^2] per axis: 16 g
   double max_dt = 0.1;                   // [s] a longer step is a gap: not integrated
   double foot_distance_max = 5.0;        // [m] |p_body| of a stance foot: longer than any leg
-  double foot_variance_max = 1.0;        // [m^2] per axis; a larger variance carries no information
+  // [m^2] per axis. A "don't trust this" variance of 1e6 m^2 is fine; beyond 1e8 (10 km) the
+  // measurement carries nothing and only costs the filter's arithmetic its digits.
+  double foot_variance_max = 1e8;
+  double foot_speed_max = 20.0;          // [m/s] |v_body| of a stance foot
+  // An estimate beyond these is not a legged robot's state any more: the filter recovers.
+  double speed_max = 50.0;      // [m/s]
+  double position_max = 1e6;    // [m] from the origin
 };
 
 // Why a sample (or part of it) was not used, or why the filter had to recover.

@@ -8,13 +8,23 @@ void DeadReckoningEstimator::reset(const EstimateSample& x0) {
   x_ = {lie::SO3d::fromQuaternion(x0.q), x0.v, x0.p};
   t_ = x0.t;
   has_previous_ = false;
+  startHealth(x0);
 }
 
 void DeadReckoningEstimator::step(const StepInput& in) {
+  checkStepInput(in, leg_odometry::kMaxContacts, "DeadReckoningEstimator");
+  const bool imu_admitted = admitImu(in, limits_, health_);
+  if (has_previous_ && in.dt > limits_.max_dt) {
+    health_.record(Fault::kTimeGap, in.t);
+    restart(estimate());
+  }
   if (has_previous_ && in.dt > 0.0) x_ = deadReckoningStep(x_, previous_, model::ImuBias{}, in.dt);
-  previous_ = in.imu;
-  has_previous_ = true;
+  if (imu_admitted) {
+    previous_ = in.imu;
+    has_previous_ = true;
+  }
   t_ = in.t;
+  if (!guard_.check(estimate(), limits_)) recover(in.t);
 }
 
 EstimateSample DeadReckoningEstimator::estimate() const {

@@ -129,12 +129,6 @@ using Matrix3 = Eigen::Matrix3d;
 using Vector3 = Eigen::Vector3d;
 using Matrix27x3 = Eigen::Matrix<double, kDim, 3>;
 
-[[noreturn]] void fail(double t, const std::string& what) {
-  std::ostringstream os;
-  os << "Eskf::step at t = " << t << ": " << what;
-  throw std::invalid_argument(os.str());
-}
-
 void requireParam(bool ok, const char* what) {
   if (!ok) throw std::invalid_argument(std::string("Eskf: ") + what);
 }
@@ -159,6 +153,7 @@ Eskf::Eskf(const EskfParams& params) : params_(params) {
                  "foot_init_sigma and the prior sigmas must be positive and finite");
   }
   requireParam(params.gravity.allFinite(), "gravity must be finite");
+  checkLimits(params.limits, "Eskf");
   reset(EstimateSample{});
 }
 
@@ -178,45 +173,10 @@ void Eskf::reset(const EstimateSample& x0) {
   diag.segment<3>(kBa).setConstant(variance(params_.sigma_accel_bias));
   P_ = diag.asDiagonal();
   in_contact_.fill(false);
+  startHealth(x0);
   t_ = x0.t;
   previous_ = model::ImuReading{};
   has_previous_ = false;
-}
-
-void Eskf::validate(const StepInput& in) const {
-  const double t = in.t;
-  if (!std::isfinite(t)) fail(t, "time t is not finite");
-  if (!(in.dt >= 0.0) || !std::isfinite(in.dt)) {
-    std::ostringstream os;
-    os << "dt must be finite and non-negative, got " << in.dt;
-    fail(t, os.str());
-  }
-  if (!in.imu.w_m.allFinite()) fail(t, "gyro reading w_m is not finite");
-  if (!in.imu.a_m.allFinite()) fail(t, "accelerometer reading a_m is not finite");
-  if (in.num_contacts < 0 || in.num_contacts > static_cast<int>(in.contacts.size())) {
-    fail(t, "num_contacts = " + std::to_string(in.num_contacts) + " is out of range [0, " +
-                std::to_string(in.contacts.size()) + "]");
-  }
-  std::array<bool, kFeet> seen{};
-  for (const ContactMeasurement& c : in.stance()) {
-    // Messages are built only on failure: the normal path does not allocate.
-    const auto footFail = [&](const std::string& what) {
-      fail(t, "foot id " + std::to_string(c.foot) + " " + what);
-    };
-    if (c.foot < 0 || c.foot >= kFeet) {
-      footFail("is out of range [0, " + std::to_string(kFeet) + ")");
-    }
-    if (seen[c.foot]) footFail("appears twice among the contacts");
-    seen[c.foot] = true;
-    if (!c.p_body.allFinite()) footFail("p_body is not finite");
-    if (!c.cov.allFinite()) footFail("covariance is not finite");
-    if ((c.cov - c.cov.transpose()).norm() > 1e-9 * (1.0 + c.cov.norm())) {
-      footFail("covariance is not symmetric");
-    }
-    if (Eigen::LLT<Matrix3>(c.cov).info() != Eigen::Success) {
-      footFail("covariance is not positive definite");
-    }
-  }
 }
 
 void Eskf::predict(double dt) {
@@ -256,7 +216,7 @@ void Eskf::predict(double dt) {
   x_ = eskf::propagate(x_, previous_, dt, params_.gravity);
 }
 
-void Eskf::updateFoot(int i, const ContactMeasurement& c, Vector27& dx) {
+bool Eskf::updateFoot(int i, const ContactMeasurement& c, Vector27& dx) {
   const int d = eskf::footIndex(i);
   eskf::Matrix39 H;  // over (dtheta, dp, dd_i)
   const Vector3 h = eskf::footInBody(x_, i, &H);
@@ -269,9 +229,10 @@ void Eskf::updateFoot(int i, const ContactMeasurement& c, Vector27& dx) {
     PHt.noalias() += P_.middleCols<3>(cols[k]).lazyProduct(Hblock(k).transpose());
   Matrix3 S = c.cov;  // S = H P H^T + Cov
   for (int k = 0; k < 3; ++k) S.noalias() += Hblock(k) * PHt.middleRows<3>(cols[k]);
-  // K = P H^T S^-1. S is 3 x 3 and symmetric positive definite (at least Cov): its closed-form
-  // inverse is exact enough and far cheaper than a general solve.
-  const Matrix27x3 K = PHt.lazyProduct(S.inverse());
+  // K = P H^T S^-1 through S = L L^T; a failed factorisation skips the update (the contract).
+  const Eigen::LLT<Matrix3> llt(S);
+  if (llt.info() != Eigen::Success) return false;
+  const Matrix27x3 K = PHt.lazyProduct(llt.solve(Matrix3::Identity()));
 
   // Innovation against the error mean accumulated so far: z - h(x_hat) - H dx.
   Vector3 r = c.p_body - h;
@@ -287,6 +248,7 @@ void Eskf::updateFoot(int i, const ContactMeasurement& c, Vector27& dx) {
     B.noalias() -= A.middleCols<3>(cols[k]).lazyProduct(Hblock(k).transpose());
   A.noalias() += B.lazyProduct(K.transpose());
   P_ = 0.5 * (A + A.transpose());
+  return true;
 }
 
 void Eskf::inject(const Vector27& dx) {
@@ -319,8 +281,15 @@ void Eskf::initialiseFoot(int i, const ContactMeasurement& c) {
   P_.block<3, 3>(d, d) = 0.5 * (P_dd + P_dd.transpose());
 }
 
-void Eskf::step(const StepInput& in) {
-  validate(in);  // throws before anything changes
+void Eskf::step(const StepInput& raw) {
+  checkStepInput(raw, kFeet, "Eskf");  // throws before anything changes
+  std::optional<StepInput> admitted;
+  const StepInput& in = admitContacts(raw, params_.limits, health_, admitted);
+  const bool imu_admitted = admitImu(in, params_.limits, health_);
+  if (has_previous_ && in.dt > params_.limits.max_dt) {
+    health_.record(Fault::kTimeGap, in.t);
+    restart(estimate());  // nothing integrated across the gap; from here a first sample
+  }
 
   if (has_previous_ && in.dt > 0.0) predict(in.dt);
 
@@ -329,8 +298,11 @@ void Eskf::step(const StepInput& in) {
   bool updated = false;
   for (const ContactMeasurement& c : in.stance()) {
     if (!in_contact_[c.foot]) continue;
-    updateFoot(c.foot, c, dx);
-    updated = true;
+    if (updateFoot(c.foot, c, dx)) {
+      updated = true;
+    } else {
+      health_.record(Fault::kUpdateFailed, in.t);
+    }
   }
   if (updated) inject(dx);
 
@@ -340,9 +312,12 @@ void Eskf::step(const StepInput& in) {
     if (!in_contact_[c.foot]) initialiseFoot(c.foot, c);
   }
   in_contact_ = stance;
-  previous_ = in.imu;
-  has_previous_ = true;
+  if (imu_admitted) {
+    previous_ = in.imu;
+    has_previous_ = true;
+  }
   t_ = in.t;
+  if (!guard_.check(estimate(), P_, params_.limits)) recover(in.t);
 }
 
 EstimateSample Eskf::estimate() const {

@@ -146,6 +146,7 @@ struct EskfParams {
   double sigma_gyro_bias = 0.002;  // [rad/s]
   double sigma_accel_bias = 0.02;  // [m/s^2]
   Eigen::Vector3d gravity = model::gravity();
+  InputLimits limits;  // sensor ranges and the largest dt integrated (estimation/health.hpp)
 };
 
 class Eskf final : public Estimator {
@@ -157,10 +158,8 @@ class Eskf final : public Estimator {
   std::string name() const override { return "eskf"; }
   // Base from x0, biases zero, feet unknown and out of contact; P from the Params sigmas.
   void reset(const EstimateSample& x0) override;
-  // Prediction over in.dt with the previous IMU sample, then the stance feet. Throws
-  // std::invalid_argument (and leaves the state untouched) for a non-finite time, IMU reading or
-  // contact, a negative dt, a contact count out of range, a foot id out of range or repeated, or
-  // a contact covariance that is not symmetric positive definite.
+  // Prediction over in.dt with the previous IMU sample, then the stance feet; bad input and
+  // faults as estimation/estimator.hpp's contract says.
   void step(const StepInput& in) override;
   EstimateSample estimate() const override;
   // The (dtheta_w, dv, dp) block of P with the attitude error mapped to the world frame.
@@ -171,9 +170,9 @@ class Eskf final : public Estimator {
   bool inContact(int i) const { return in_contact_[i]; }
 
  private:
-  void validate(const StepInput& in) const;
   void predict(double dt);
-  void updateFoot(int i, const ContactMeasurement& c, eskf::Vector27& dx);
+  // False (nothing changed) when the innovation covariance does not factorise.
+  bool updateFoot(int i, const ContactMeasurement& c, eskf::Vector27& dx);
   void inject(const eskf::Vector27& dx);
   void initialiseFoot(int i, const ContactMeasurement& c);
 

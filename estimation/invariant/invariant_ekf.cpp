@@ -85,12 +85,6 @@ using Vector3 = Eigen::Vector3d;
 using inekf::Covariance;
 using inekf::Discretisation;
 
-[[noreturn]] void fail(double t, const std::string& what) {
-  std::ostringstream os;
-  os << "InvariantEkf::step at t = " << t << ": " << what;
-  throw std::invalid_argument(os.str());
-}
-
 // T of e = -T xi (file comment): e = (dtheta, dv, dp), xi = (phi, rho_v, rho_p).
 Eigen::Matrix<double, 9, 9> xiToBase(const Vector3& v, const Vector3& p) {
   Eigen::Matrix<double, 9, 9> T = Eigen::Matrix<double, 9, 9>::Identity();
@@ -132,6 +126,7 @@ InvariantEkf::InvariantEkf(const InvariantEkfParams& params) : params_(params) {
     throw std::invalid_argument("InvariantEkf: prior sigmas must be finite and > 0");
   }
   if (!params.gravity.allFinite()) throw std::invalid_argument("InvariantEkf: gravity not finite");
+  checkLimits(params.limits, "InvariantEkf");
   reset(EstimateSample{});
 }
 
@@ -144,6 +139,8 @@ void InvariantEkf::reset(const EstimateSample& x0) {
   column_of_foot_.fill(-1);
   t_ = x0.t;
   previous_ = model::ImuReading{};
+  has_previous_ = false;
+  startHealth(x0);
 
   // Prior diagonal in the kit's convention, mapped into xi = -T^-1 e.
   Eigen::Matrix<double, 9, 1> sigma;
@@ -159,50 +156,23 @@ void InvariantEkf::reset(const EstimateSample& x0) {
                                                 params_.sigma_accel_bias);
 }
 
-void InvariantEkf::validate(const StepInput& in) const {
-  const double t = in.t;
-  if (!std::isfinite(t)) fail(t, "time t is not finite");
-  if (!(in.dt >= 0.0) || !std::isfinite(in.dt)) {
-    std::ostringstream os;
-    os << "dt must be finite and non-negative, got " << in.dt;
-    fail(t, os.str());
+void InvariantEkf::step(const StepInput& raw) {
+  checkStepInput(raw, inekf::kMaxFeet, "InvariantEkf");  // throws before anything changes
+  std::optional<StepInput> admitted;
+  const StepInput& in = admitContacts(raw, params_.limits, health_, admitted);
+  const bool imu_admitted = admitImu(in, params_.limits, health_);
+  if (has_previous_ && in.dt > params_.limits.max_dt) {
+    health_.record(Fault::kTimeGap, in.t);
+    restart(estimate());  // nothing integrated across the gap; from here a first sample
   }
-  if (!in.imu.w_m.allFinite()) fail(t, "gyro reading w_m is not finite");
-  if (!in.imu.a_m.allFinite()) fail(t, "accelerometer reading a_m is not finite");
-  if (in.num_contacts < 0 || in.num_contacts > static_cast<int>(in.contacts.size())) {
-    fail(t, "num_contacts = " + std::to_string(in.num_contacts) + " is out of range [0, " +
-                std::to_string(in.contacts.size()) + "]");
-  }
-  std::array<bool, inekf::kMaxFeet> seen{};
-  for (const ContactMeasurement& c : in.stance()) {
-    // Messages are built only on failure: the normal path does not allocate.
-    const auto footFail = [&](const std::string& what) {
-      fail(t, "foot id " + std::to_string(c.foot) + " " + what);
-    };
-    if (c.foot < 0 || c.foot >= inekf::kMaxFeet) {
-      footFail("is out of range [0, " + std::to_string(inekf::kMaxFeet) + ")");
-    }
-    if (seen[c.foot]) footFail("appears twice among the contacts");
-    seen[c.foot] = true;
-    if (!c.p_body.allFinite()) footFail("p_body is not finite");
-    if (!c.cov.allFinite()) footFail("covariance is not finite");
-    if ((c.cov - c.cov.transpose()).norm() > 1e-9 * (1.0 + c.cov.norm())) {
-      footFail("covariance is not symmetric");
-    }
-    // Sylvester's criterion: the leading principal minors are positive.
-    const Matrix3& N = c.cov;
-    if (!(N(0, 0) > 0.0 && N(0, 0) * N(1, 1) - N(0, 1) * N(1, 0) > 0.0 && N.determinant() > 0.0)) {
-      footFail("covariance is not positive definite");
-    }
-  }
-}
-
-void InvariantEkf::step(const StepInput& in) {
-  validate(in);  // throws before anything changes
-  if (in.dt > 0.0) propagate(in.dt);
+  if (has_previous_ && in.dt > 0.0) propagate(in.dt);
   correct(in);
-  previous_ = in.imu;
+  if (imu_admitted) {
+    previous_ = in.imu;
+    has_previous_ = true;
+  }
   t_ = in.t;
+  if (!guard_.check(estimate(), P_, params_.limits)) recover(in.t);
 }
 
 namespace {
@@ -342,6 +312,10 @@ void InvariantEkf::correctHeldFeet(const StepInput& in) {
     // the correction is K nu = W (C^-1 nu). W is D x 3, column-major: the rank-3 update of P
     // runs down its columns.
     const Eigen::LLT<Matrix3> llt(S);
+    if (llt.info() != Eigen::Success) {  // the contract: skip this foot's update, counted
+      health_.record(Fault::kUpdateFailed, in.t);
+      continue;
+    }
     const Matrix3 C_inv = llt.matrixL().solve(Matrix3::Identity());
     const Eigen::Matrix<double, D, 3> W = U * C_inv.transpose();
     delta += W * (C_inv * nu);

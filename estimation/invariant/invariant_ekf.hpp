@@ -126,6 +126,7 @@ struct InvariantEkfParams {
   double sigma_accel_bias = 0.02;  // [m/s^2]
   inekf::Discretisation discretisation = inekf::Discretisation::kExact;
   Eigen::Vector3d gravity = model::gravity();
+  InputLimits limits;  // sensor ranges and the largest dt integrated (estimation/health.hpp)
 
   // The settings of the reference implementation's Cassie example (src/examples/kinematics.cpp):
   // its noise values read as continuous-time standard deviations (gyro 0.01, accel 0.1, bias
@@ -143,14 +144,13 @@ class InvariantEkf final : public Estimator {
   explicit InvariantEkf(const InvariantEkfParams& params = {});
 
   std::string name() const override { return "invariant-ekf"; }
-  // Base from x0, biases zero, no feet; P from the Params sigmas. The held IMU sample is zero
-  // until the first step (as in the reference: a first step with dt > 0 propagates zero input).
+  // Base from x0, biases zero, no feet; P from the Params sigmas. Nothing is propagated until
+  // an IMU sample has been admitted (the reference instead propagates a zero reading, free fall,
+  // when its first step has dt > 0).
   void reset(const EstimateSample& x0) override;
   // Propagation over in.dt with the previous IMU sample, then the contacts of this sample:
   // corrections for the held feet still in stance, removal of the others, new columns for feet
-  // that touched down. Throws std::invalid_argument (state untouched) for a non-finite time, IMU
-  // reading or contact, a negative dt, a contact count out of range, a foot id out of range or
-  // repeated, or a contact covariance that is not symmetric positive definite.
+  // that touched down. Bad input and faults as estimation/estimator.hpp's contract says.
   void step(const StepInput& in) override;
   EstimateSample estimate() const override;
   // The (dtheta, dv, dp) block in the BaseCovariance convention (file comment).
@@ -166,7 +166,6 @@ class InvariantEkf final : public Estimator {
   int columnOf(int foot) const { return column_of_foot_[foot]; }
 
  private:
-  void validate(const StepInput& in) const;
   void propagate(double dt);
   void correct(const StepInput& in);
   // The covariance parts of propagate() and correct() for a fixed number of feet, so that every
@@ -187,6 +186,7 @@ class InvariantEkf final : public Estimator {
   std::array<int, inekf::kMaxFeet> column_of_foot_{};  // -1: not held
   double t_ = 0.0;
   model::ImuReading previous_;
+  bool has_previous_ = false;
 };
 
 }  // namespace legkit::invariant

@@ -140,12 +140,6 @@ using namespace tsif;
 
 namespace {
 
-[[noreturn]] void fail(double t, const std::string& what) {
-  std::ostringstream os;
-  os << "Tsif::step at t = " << t << ": " << what;
-  throw std::invalid_argument(os.str());
-}
-
 void requirePositive(double value, const char* what) {
   if (value > 0.0 && std::isfinite(value)) return;
   std::ostringstream os;
@@ -185,6 +179,7 @@ Tsif::Tsif(const TsifParams& params) : params_(params) {
                                 std::to_string(params.iterations));
   }
   if (!params.gravity.allFinite()) throw std::invalid_argument("Tsif: gravity is not finite");
+  checkLimits(params.limits, "Tsif");
   reset(EstimateSample{});
 }
 
@@ -208,43 +203,18 @@ void Tsif::reset(const EstimateSample& x0) {
   in_contact_.fill(false);
   t_ = x0.t;
   has_previous_ = false;
+  startHealth(x0);
 }
 
-void Tsif::validate(const StepInput& in) const {
-  if (!std::isfinite(in.t)) fail(in.t, "time t is not finite");
-  if (!(in.dt >= 0.0) || !std::isfinite(in.dt)) {
-    fail(in.t, "dt must be finite and non-negative, got " + std::to_string(in.dt));
+void Tsif::step(const StepInput& raw) {
+  checkStepInput(raw, kFeet, "Tsif");  // throws before anything changes
+  std::optional<StepInput> admitted;
+  const StepInput& in = admitContacts(raw, params_.limits, health_, admitted);
+  const bool imu_admitted = admitImu(in, params_.limits, health_);
+  if (has_previous_ && in.dt > params_.limits.max_dt) {
+    health_.record(Fault::kTimeGap, in.t);
+    restart(estimate());  // nothing integrated across the gap; from here a first sample
   }
-  if (!in.imu.w_m.allFinite()) fail(in.t, "gyro reading w_m is not finite");
-  if (!in.imu.a_m.allFinite()) fail(in.t, "accelerometer reading a_m is not finite");
-  if (in.num_contacts < 0 || in.num_contacts > leg_odometry::kMaxContacts) {
-    fail(in.t, "num_contacts = " + std::to_string(in.num_contacts) + " is out of range");
-  }
-  std::array<bool, kFeet> seen{};
-  for (const ContactMeasurement& c : in.stance()) {
-    // The message is built only on failure: the happy path must not allocate.
-    const auto failFoot = [&](const char* what) {
-      fail(in.t, "contact of foot " + std::to_string(c.foot) + ": " + what);
-    };
-    if (c.foot < 0 || c.foot >= kFeet) {
-      fail(in.t, "foot id " + std::to_string(c.foot) + " is out of range [0, " +
-                     std::to_string(kFeet) + ")");
-    }
-    if (seen[c.foot]) failFoot("appears twice");
-    seen[c.foot] = true;
-    if (!c.p_body.allFinite()) failFoot("p_body is not finite");
-    if (!c.cov.allFinite()) failFoot("covariance is not finite");
-    if ((c.cov - c.cov.transpose()).norm() > 1e-9 * (1.0 + c.cov.norm())) {
-      failFoot("covariance is not symmetric");
-    }
-    if (Eigen::LLT<Eigen::Matrix3d>(c.cov).info() != Eigen::Success) {
-      failFoot("covariance is not positive definite");
-    }
-  }
-}
-
-void Tsif::step(const StepInput& in) {
-  validate(in);
   std::array<const ContactMeasurement*, kFeet> contact{};  // the stance feet at k+1
   for (const ContactMeasurement& c : in.stance()) contact[c.foot] = &c;
 
@@ -257,9 +227,7 @@ void Tsif::step(const StepInput& in) {
       }
       in_contact_[i] = contact[i] != nullptr;
     }
-    previous_ = in.imu;
-    has_previous_ = true;
-    t_ = in.t;
+    finishStep(in, imu_admitted);
     return;
   }
 
@@ -374,9 +342,12 @@ void Tsif::step(const StepInput& in) {
     S = S.selfadjointView<Eigen::Lower>();
     const Eigen::LLT<Matrix27> llt22(S);
     if (llt11.info() != Eigen::Success || llt22.info() != Eigen::Success) {
-      std::ostringstream os;
-      os << "Tsif::step at t = " << in.t << ": the normal equations are not positive definite";
-      throw std::runtime_error(os.str());
+      // The contract's failed update: the step is not taken; the filter restarts from its
+      // estimate before it, and the sample counts as a first sample.
+      health_.record(Fault::kUpdateFailed, in.t);
+      restart(estimate());
+      finishStep(in, imu_admitted);
+      return;
     }
     const Vector27 dx1 = -llt22.solve(b2 - Y.transpose() * z);  // S dx1 = -(b2 - H21 H11^-1 b1)
     Vector27 dx0 = -(z + Y * dx1);                              // H11 dx0 = -(b1 + H12 dx1)
@@ -389,8 +360,16 @@ void Tsif::step(const StepInput& in) {
   x_ = x1;
   Lambda_ = S;
   for (int i = 0; i < kFeet; ++i) in_contact_[i] = contact[i] != nullptr;
-  previous_ = in.imu;
+  finishStep(in, imu_admitted);
+}
+
+void Tsif::finishStep(const StepInput& in, bool imu_admitted) {
+  if (imu_admitted) {
+    previous_ = in.imu;
+    has_previous_ = true;
+  }
   t_ = in.t;
+  if (!guard_.check(estimate(), Lambda_, params_.limits)) recover(in.t);
 }
 
 EstimateSample Tsif::estimate() const {

@@ -138,6 +138,7 @@ struct TsifParams {
   double sigma_gyro_bias = 0.002;  // [rad/s]
   double sigma_accel_bias = 0.02;  // [m/s^2]
   Eigen::Vector3d gravity = model::gravity();
+  InputLimits limits;  // sensor ranges and the largest dt integrated (estimation/health.hpp)
 };
 
 class Tsif final : public Estimator {
@@ -148,11 +149,9 @@ class Tsif final : public Estimator {
   std::string name() const override { return "tsif"; }
   // Base from x0, biases zero, feet unknown (weak prior); information from the Params sigmas.
   void reset(const EstimateSample& x0) override;
-  // One two-state Gauss-Newton solve and marginalisation. Throws std::invalid_argument (and
-  // leaves the state untouched) for a non-finite time, IMU reading or contact, a negative dt,
-  // a foot id out of range or repeated, or a contact covariance that is not symmetric positive
-  // definite; std::runtime_error (state untouched too) if the normal equations are numerically
-  // not positive definite.
+  // One two-state Gauss-Newton solve and marginalisation. Bad input and faults as
+  // estimation/estimator.hpp's contract says; normal equations that do not factorise are a failed
+  // update (the step is not taken and the filter restarts from its estimate).
   void step(const StepInput& in) override;
   EstimateSample estimate() const override;
   // The (dtheta_w, dv, dp) block of Lambda^-1, attitude mapped to the world frame.
@@ -163,7 +162,8 @@ class Tsif final : public Estimator {
   bool inContact(int i) const { return in_contact_[i]; }
 
  private:
-  void validate(const StepInput& in) const;
+  // The end of every step: the held IMU sample, the time and the health check.
+  void finishStep(const StepInput& in, bool imu_admitted);
 
   TsifParams params_;
   tsif::State x_;

@@ -10,22 +10,37 @@ void LegOdometryEstimator::reset(const EstimateSample& x0) {
   p_ = x0.p;
   t_ = x0.t;
   has_previous_ = false;
+  startHealth(x0);
 }
 
-void LegOdometryEstimator::step(const StepInput& in) {
+void LegOdometryEstimator::step(const StepInput& raw) {
+  checkStepInput(raw, kMaxContacts, "LegOdometryEstimator");
+  std::optional<StepInput> admitted;
+  const StepInput& in = admitContacts(raw, limits_, health_, admitted);
+  const bool imu_admitted = admitImu(in, limits_, health_);
+  if (has_previous_ && in.dt > limits_.max_dt) {
+    health_.record(Fault::kTimeGap, in.t);
+    restart(estimate());
+  }
   const Eigen::Vector3d v_before = v_;
   if (has_previous_ && in.dt > 0.0) {
     const Eigen::Vector3d a_world = R_ * previous_.a_m + model::gravity();
     R_ = R_ * lie::SO3d::Exp(previous_.w_m * in.dt);  // R_{k+1} = R_k Exp(w_m dt)
     v_ += a_world * in.dt;                            // flight: the IMU alone
   }
-  bool legs_measure_velocity = in.num_contacts > 0;
+  bool legs_measure_velocity = in.num_contacts > 0 && (imu_admitted || has_previous_);
   for (const ContactMeasurement& c : in.stance()) legs_measure_velocity &= c.v_body.has_value();
-  if (legs_measure_velocity) v_ = meanVelocity(R_.matrix(), in.imu.w_m, in.stance());
+  if (legs_measure_velocity) {
+    const Eigen::Vector3d& w_m = imu_admitted ? in.imu.w_m : previous_.w_m;
+    v_ = meanVelocity(R_.matrix(), w_m, in.stance());
+  }
   if (has_previous_) p_ += 0.5 * (v_before + v_) * in.dt;
-  previous_ = in.imu;
-  has_previous_ = true;
+  if (imu_admitted) {
+    previous_ = in.imu;
+    has_previous_ = true;
+  }
   t_ = in.t;
+  if (!guard_.check(estimate(), limits_)) recover(in.t);
 }
 
 EstimateSample LegOdometryEstimator::estimate() const {

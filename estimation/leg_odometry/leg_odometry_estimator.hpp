@@ -14,12 +14,18 @@ namespace legkit::leg_odometry {
 
 class LegOdometryEstimator final : public Estimator {
  public:
+  explicit LegOdometryEstimator(const InputLimits& limits = {}) : limits_(limits) {
+    checkLimits(limits, "LegOdometryEstimator");
+  }
   std::string name() const override { return "leg-odometry"; }
   void reset(const EstimateSample& x0) override;
+  // Bad input and faults as estimation/estimator.hpp's contract says; a sample whose IMU reading
+  // was not admitted takes its rate from the held one.
   void step(const StepInput& in) override;
   EstimateSample estimate() const override;
 
  private:
+  InputLimits limits_;
   lie::SO3d R_;
   Eigen::Vector3d v_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d p_ = Eigen::Vector3d::Zero();

@@ -18,19 +18,6 @@ void require(bool ok, const char* what) {
   if (!ok) throw std::invalid_argument(std::string("LinearKf: ") + what);
 }
 
-[[noreturn]] void reject(double t, const std::string& what) {
-  std::ostringstream os;
-  os << "LinearKf::step at t = " << t << ": " << what;
-  throw std::invalid_argument(os.str());
-}
-
-// Finite, symmetric to 1e-9 relative, and positive definite (its Cholesky factor exists).
-bool isCovariance(const Eigen::Matrix3d& C) {
-  if (!C.allFinite() || (C - C.transpose()).cwiseAbs().maxCoeff() > 1e-9 * (1.0 + C.norm()))
-    return false;
-  return Eigen::LLT<Eigen::Matrix3d>(C).info() == Eigen::Success;
-}
-
 }  // namespace
 
 // -- The model's matrices ----------------------------------------------------------------------
@@ -121,6 +108,7 @@ LinearKf::LinearKf(const LinearKfParams& params) : params_(params), attitude_(pa
   require(p.attitude_correlation_time > 0.0, "attitude_correlation_time must be positive");
   require(p.accel_compensation_time >= 0.0, "accel_compensation_time must be non-negative");
   require(p.gravity.allFinite() && p.b_a.allFinite(), "gravity and b_a must be finite");
+  checkLimits(params.limits, "LinearKf");
   reset(EstimateSample{});
 }
 
@@ -140,40 +128,18 @@ void LinearKf::reset(const EstimateSample& x0) {
   previous_contact_.fill(false);
   has_previous_ = false;
   t_ = x0.t;
+  startHealth(x0);
 }
 
-void LinearKf::validate(const StepInput& in) const {
-  const double t = in.t;
-  if (!std::isfinite(t)) reject(t, "time t is not finite");
-  if (!std::isfinite(in.dt) || in.dt < 0.0) {
-    std::ostringstream os;
-    os << "dt must be finite and non-negative, got " << in.dt;
-    reject(t, os.str());
+void LinearKf::step(const StepInput& raw) {
+  checkStepInput(raw, kFeet, "LinearKf");  // throws before anything changes
+  std::optional<StepInput> admitted;
+  const StepInput& in = admitContacts(raw, params_.limits, health_, admitted);
+  const bool imu_admitted = admitImu(in, params_.limits, health_);
+  if (has_previous_ && in.dt > params_.limits.max_dt) {
+    health_.record(Fault::kTimeGap, in.t);
+    restart(estimate());  // nothing integrated across the gap; from here a first sample
   }
-  if (!in.imu.w_m.allFinite()) reject(t, "gyro reading w_m is not finite");
-  if (!in.imu.a_m.allFinite()) reject(t, "accelerometer reading a_m is not finite");
-  if (in.num_contacts < 0 || in.num_contacts > kFeet) {
-    std::ostringstream os;
-    os << "num_contacts = " << in.num_contacts << " is outside 0..4";
-    reject(t, os.str());
-  }
-  ContactMask seen{};
-  for (const ContactMeasurement& c : in.stance()) {
-    // The message is only built on failure (step() must not allocate).
-    const auto fail = [&](const char* what) {
-      reject(t, "contact of foot " + std::to_string(c.foot) + ": " + what);
-    };
-    if (c.foot < 0 || c.foot >= kFeet) fail("foot id is outside 0..3");
-    if (seen[c.foot]) fail("foot appears twice");
-    seen[c.foot] = true;
-    if (!c.p_body.allFinite()) fail("p_body is not finite");
-    if (!isCovariance(c.cov)) fail("covariance is not symmetric positive definite (or not finite)");
-    if (c.v_body && !c.v_body->allFinite()) fail("v_body is not finite");
-  }
-}
-
-void LinearKf::step(const StepInput& in) {
-  validate(in);  // throws before anything changes
   const Eigen::Vector3d v_before = x_.segment<3>(kV);
   if (has_previous_ && in.dt > 0.0) {
     // u = R_hat (a_m - b_a) + g with the attitude at the start of the interval (zero-order hold).
@@ -185,19 +151,26 @@ void LinearKf::step(const StepInput& in) {
       params_.model_attitude_error ? attitude_.attitudeCovariance() : Eigen::Matrix3d::Zero();
   ContactMask contact{};
   for (const ContactMeasurement& c : in.stance()) {
-    updateFoot(c, Sigma_theta);
+    if (!updateFoot(c, Sigma_theta)) health_.record(Fault::kUpdateFailed, in.t);
     contact[c.foot] = true;
   }
-  if (params_.use_leg_velocity && in.dt > 0.0) updateVelocity(in, Sigma_theta);
+  // The velocity measurement needs this sample's rate: the admitted one, else the held one.
+  if (params_.use_leg_velocity && in.dt > 0.0 && (imu_admitted || has_previous_)) {
+    const Eigen::Vector3d& w_m = imu_admitted ? in.imu.w_m : previous_.w_m;
+    if (!updateVelocity(in, w_m, Sigma_theta)) health_.record(Fault::kUpdateFailed, in.t);
+  }
   if (params_.accel_compensation_time > 0.0 && has_previous_ && in.dt > 0.0) {
     // a_w <- a_w + (dv / dt - a_w) dt / T: first-order low-pass of the velocity's rate of change.
     const double T = std::max(params_.accel_compensation_time, in.dt);
     a_w_ += (x_.segment<3>(kV) - v_before - a_w_ * in.dt) / T;
   }
   previous_contact_ = contact;
-  previous_ = in.imu;
-  has_previous_ = true;
+  if (imu_admitted) {
+    previous_ = in.imu;
+    has_previous_ = true;
+  }
   t_ = in.t;
+  if (!guard_.check(estimate(), P_, params_.limits)) recover(in.t);
 }
 
 void LinearKf::predict(double dt, const Eigen::Vector3d& f_w) {
@@ -231,13 +204,16 @@ void LinearKf::predict(double dt, const Eigen::Vector3d& f_w) {
   }
 }
 
-void LinearKf::update(const Matrix18x3& N, const Eigen::Matrix3d& S, const Eigen::Vector3d& y) {
-  const Matrix18x3 K = N * S.inverse();  // K = P H^T S^-1
+bool LinearKf::update(const Matrix18x3& N, const Eigen::Matrix3d& S, const Eigen::Vector3d& y) {
+  const Eigen::LLT<Eigen::Matrix3d> llt(S);
+  if (llt.info() != Eigen::Success) return false;  // the contract: the update is skipped
+  const Matrix18x3 K = N * llt.solve(Eigen::Matrix3d::Identity());  // K = P H^T S^-1
   x_.noalias() += K * y;
   josephUpdate(P_, K, N, S);
+  return true;
 }
 
-void LinearKf::updateFoot(const ContactMeasurement& c, const Eigen::Matrix3d& Sigma_theta) {
+bool LinearKf::updateFoot(const ContactMeasurement& c, const Eigen::Matrix3d& Sigma_theta) {
   const int d = footIndex(c.foot);
   const Eigen::Matrix3d& R_hat = attitude_.R().matrix();
   // z_i = R_hat r_i, predicted d_i - p; H_i = [-I ... I ...] makes N = P H^T a column difference.
@@ -245,10 +221,11 @@ void LinearKf::updateFoot(const ContactMeasurement& c, const Eigen::Matrix3d& Si
   const Matrix18x3 N = P_.middleCols<3>(d) - P_.middleCols<3>(kP);
   const Eigen::Matrix3d S = N.middleRows<3>(d) - N.middleRows<3>(kP) +
                             footMeasurementNoise(R_hat, c.p_body, c.cov, Sigma_theta);
-  update(N, S, y);
+  return update(N, S, y);
 }
 
-void LinearKf::updateVelocity(const StepInput& in, const Eigen::Matrix3d& Sigma_theta) {
+bool LinearKf::updateVelocity(const StepInput& in, const Eigen::Vector3d& w_m,
+                              const Eigen::Matrix3d& Sigma_theta) {
   // The stance feet's mean base velocity = the velocity from a virtual foot at their centroid.
   Eigen::Vector3d r_bar = Eigen::Vector3d::Zero(), r_dot_bar = Eigen::Vector3d::Zero();
   Eigen::Matrix3d cov_r_bar = Eigen::Matrix3d::Zero();
@@ -260,12 +237,12 @@ void LinearKf::updateVelocity(const StepInput& in, const Eigen::Matrix3d& Sigma_
     cov_r_bar += c.cov;
     ++k;
   }
-  if (k == 0) return;
+  if (k == 0) return true;
   r_bar /= k;
   r_dot_bar /= k;
   cov_r_bar /= static_cast<double>(k * k);  // Cov(mean) = sum Cov(r_i) / k^2
   const Eigen::Matrix3d& R_hat = attitude_.R().matrix();
-  const Eigen::Vector3d w = in.imu.w_m - attitude_.b_g();  // rate at this sample
+  const Eigen::Vector3d w = w_m - attitude_.b_g();  // rate at this sample
   leg_odometry::FootVelocityNoise noise;
   const double sg = params_.imu.gyro_noise_density, sr = params_.foot_velocity_sigma;
   noise.gyro_cov = Eigen::Matrix3d::Identity() * (sg * sg / in.dt);  // one gyro sample
@@ -279,7 +256,7 @@ void LinearKf::updateVelocity(const StepInput& in, const Eigen::Matrix3d& Sigma_
   // H_v = [0 I 0 ...]: N = P's columns of v.
   const Matrix18x3 N = P_.middleCols<3>(kV);
   const Eigen::Matrix3d S = N.middleRows<3>(kV) + R_v;
-  update(N, S, z_v - x_.segment<3>(kV));
+  return update(N, S, z_v - x_.segment<3>(kV));
 }
 
 EstimateSample LinearKf::estimate() const {

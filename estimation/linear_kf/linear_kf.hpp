@@ -159,6 +159,7 @@ struct LinearKfParams {
   double foot_init_sigma = 1.0;   // feet unknown until their first stance measurement [m]
   AttitudeFilterParams attitude;  // the attitude filter the linear KF owns
   Eigen::Vector3d gravity = model::gravity();
+  InputLimits limits;  // sensor ranges and the largest dt integrated (estimation/health.hpp)
 
   // The densities processModel() uses.
   ProcessNoise processNoise() const {
@@ -177,9 +178,8 @@ class LinearKf final : public Estimator {
   // attitude filter from x0's attitude with zero gyro bias.
   void reset(const EstimateSample& x0) override;
   // Prediction over in.dt with the previous IMU sample (attitude filter first), then the stance
-  // feet and the leg-odometry velocity. Throws std::invalid_argument (state untouched) for a
-  // non-finite time, IMU reading or contact, a negative dt, a contact count out of range, a foot
-  // id out of range or repeated, or a contact covariance that is not symmetric positive definite.
+  // feet and the leg-odometry velocity. Bad input and faults as estimation/estimator.hpp's
+  // contract says.
   void step(const StepInput& in) override;
   EstimateSample estimate() const override;
   std::optional<BaseCovariance> covariance() const override;
@@ -190,12 +190,14 @@ class LinearKf final : public Estimator {
   const LinearKfParams& params() const { return params_; }
 
  private:
-  void validate(const StepInput& in) const;
   void predict(double dt, const Eigen::Vector3d& f_w);
-  // One 3-row measurement with N = P H^T (18 x 3), residual y, its S = H N + R.
-  void update(const Matrix18x3& N, const Eigen::Matrix3d& S, const Eigen::Vector3d& y);
-  void updateFoot(const ContactMeasurement& c, const Eigen::Matrix3d& Sigma_theta);
-  void updateVelocity(const StepInput& in, const Eigen::Matrix3d& Sigma_theta);
+  // One 3-row measurement with N = P H^T (18 x 3), residual y, its S = H N + R. False (nothing
+  // changed) when S does not factorise.
+  bool update(const Matrix18x3& N, const Eigen::Matrix3d& S, const Eigen::Vector3d& y);
+  bool updateFoot(const ContactMeasurement& c, const Eigen::Matrix3d& Sigma_theta);
+  // w_m: this sample's gyro reading (the held one when this sample's was not admitted).
+  bool updateVelocity(const StepInput& in, const Eigen::Vector3d& w_m,
+                      const Eigen::Matrix3d& Sigma_theta);
 
   LinearKfParams params_;
   AttitudeFilter attitude_;

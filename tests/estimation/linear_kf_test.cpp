@@ -469,7 +469,7 @@ TEST_CASE("LKF: bad input throws and leaves the state untouched", "[57.4][linear
         in.contacts[0].foot = 7;
         filter.step(in);
       }(),
-      Catch::Contains("foot 7") && Catch::Contains("outside 0..3"));
+      Catch::Contains("foot id 7") && Catch::Contains("out of range [0, 4)"));
   // And a good sample still goes through afterwards.
   filter.step(inputs[k]);
   CHECK(filter.x() != x);
