@@ -13,6 +13,9 @@ void DeadReckoningEstimator::reset(const EstimateSample& x0) {
 
 void DeadReckoningEstimator::step(const StepInput& in) {
   checkStepInput(in, leg_odometry::kMaxContacts, "DeadReckoningEstimator");
+  // Contacts are not used here, but admitted like everywhere, so that health() means the same.
+  std::optional<StepInput> unused;
+  admitContacts(in, limits_, health_, unused);
   const bool imu_admitted = admitImu(in, limits_, health_);
   if (has_previous_ && in.dt > limits_.max_dt) {
     health_.record(Fault::kTimeGap, in.t);
