@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
+#include <utility>
 
 #include "lie/imu_dynamics.hpp"
 
@@ -177,26 +178,15 @@ void InvariantEkf::step(const StepInput& raw) {
 
 namespace {
 
-// Calls f(std::integral_constant<int, n>) for the run-time number of feet n.
-template <typename F>
+// Calls f(std::integral_constant<int, n>) for the run-time number of feet n (0..kMaxFeet).
+template <int N = 0, typename F>
 void withFeet(int n, F&& f) {
-  static_assert(inekf::kMaxFeet == 4, "one case per foot count");
-  switch (n) {
-    case 0:
-      f(std::integral_constant<int, 0>{});
-      break;
-    case 1:
-      f(std::integral_constant<int, 1>{});
-      break;
-    case 2:
-      f(std::integral_constant<int, 2>{});
-      break;
-    case 3:
-      f(std::integral_constant<int, 3>{});
-      break;
-    default:
-      f(std::integral_constant<int, 4>{});
-      break;
+  if constexpr (N == inekf::kMaxFeet) {
+    f(std::integral_constant<int, N>{});
+  } else if (n == N) {
+    f(std::integral_constant<int, N>{});
+  } else {
+    withFeet<N + 1>(n, std::forward<F>(f));
   }
 }
 

@@ -77,10 +77,10 @@ namespace legkit::invariant {
 
 namespace inekf {
 
-constexpr int kMaxFeet = 4;                    // contact columns at most (foot ids 0..3)
-constexpr int kMaxColumns = 2 + kMaxFeet;      // v, p, d_1..d_4
-constexpr int kMaxNav = 3 + 3 * kMaxColumns;   // 21: the group part of the error
-constexpr int kMaxDim = kMaxNav + 6;           // 27: with the biases
+constexpr int kMaxFeet = 6;                    // contact columns at most (foot ids 0..5: a hexapod)
+constexpr int kMaxColumns = 2 + kMaxFeet;      // v, p, d_1..d_6
+constexpr int kMaxNav = 3 + 3 * kMaxColumns;   // 27: the group part of the error
+constexpr int kMaxDim = kMaxNav + 6;           // 33: with the biases
 using Group = lie::SEKd<double, kMaxColumns>;  // SE_{2+n}(3), n <= kMaxFeet
 using Covariance =
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMaxDim, kMaxDim>;

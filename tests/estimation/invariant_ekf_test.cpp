@@ -504,8 +504,8 @@ TEST_CASE("InEKF: bad input throws and leaves the state untouched", "[57.5][inek
   const MatrixXd P_before = filter.P();
   const Vector3d b_g = filter.b_g(), b_a = filter.b_a();
   const double t_before = filter.estimate().t;
-  std::array<int, 4> columns{};
-  for (int i = 0; i < 4; ++i) columns[i] = filter.columnOf(i);
+  std::array<int, inekf::kMaxFeet> columns{};
+  for (int i = 0; i < inekf::kMaxFeet; ++i) columns[i] = filter.columnOf(i);
   const auto untouched = [&] {
     CHECK(filter.X().R() == X_before.R());
     CHECK(filter.X().columns() == X_before.columns());
@@ -513,7 +513,7 @@ TEST_CASE("InEKF: bad input throws and leaves the state untouched", "[57.5][inek
     CHECK(filter.b_g() == b_g);
     CHECK(filter.b_a() == b_a);
     CHECK(filter.estimate().t == t_before);
-    for (int i = 0; i < 4; ++i) CHECK(filter.columnOf(i) == columns[i]);
+    for (int i = 0; i < inekf::kMaxFeet; ++i) CHECK(filter.columnOf(i) == columns[i]);
   };
   const double nan = std::numeric_limits<double>::quiet_NaN();
   struct Case {
@@ -527,7 +527,7 @@ TEST_CASE("InEKF: bad input throws and leaves the state untouched", "[57.5][inek
       {"dt must be finite and non-negative", [](StepInput& in) { in.dt = -1e-3; }},
       {"dt must be finite and non-negative", [&](StepInput& in) { in.dt = nan; }},
       {"time t is not finite", [&](StepInput& in) { in.t = nan; }},
-      {"foot id 4 is out of range", [](StepInput& in) { in.contacts[1].foot = 4; }},
+      {"foot id 6 is out of range", [](StepInput& in) { in.contacts[1].foot = 6; }},
       {"foot id -1 is out of range", [](StepInput& in) { in.contacts[0].foot = -1; }},
       {"appears twice", [](StepInput& in) { in.contacts[1].foot = in.contacts[0].foot; }},
       {"p_body is not finite", [&](StepInput& in) { in.contacts[1].p_body.y() = nan; }},
@@ -790,4 +790,26 @@ TEST_CASE("InEKF on the reference's Cassie log", "[57.5][inekf][cassie]") {
   CHECK(std::abs(x.p.z()) < 0.5);
   CHECK(filter.b_g().norm() < 0.1);
   CHECK(filter.b_a().norm() < 1.0);
+}
+
+TEST_CASE("InEKF: a hexapod standing holds six feet and stays at the truth", "[57.5][inekf]") {
+  // Six feet around a body at rest 0.3 m above the ground, exact readings: the estimate must not
+  // move, every foot is held, and P stays symmetric positive definite.
+  InvariantEkf filter;
+  filter.reset(EstimateSample{0.0, Eigen::Quaterniond::Identity(), Vector3d::Zero(),
+                              Vector3d(0, 0, 0.3)});
+  std::vector<ContactMeasurement> feet;
+  for (int i = 0; i < 6; ++i) {
+    const double angle = i * M_PI / 3.0;
+    feet.push_back(contact(i, Vector3d(0.4 * std::cos(angle), 0.4 * std::sin(angle), -0.3), 0.005));
+  }
+  const model::ImuReading still{Vector3d::Zero(), Vector3d(0, 0, 9.81)};
+  for (int k = 0; k <= 2000; ++k) filter.step(input(k * 1e-3, k == 0 ? 0.0 : 1e-3, still, feet));
+  CHECK(filter.numFeet() == 6);
+  for (int i = 0; i < 6; ++i) CHECK(filter.columnOf(i) >= 2);
+  CHECK(filter.estimate().p.isApprox(Vector3d(0, 0, 0.3), 1e-9));
+  CHECK(filter.estimate().v.norm() < 1e-9);
+  CHECK(filter.P().rows() == 15 + 18);
+  CHECK(minEigenvalue(filter.P()) > 0.0);
+  CHECK(filter.health().total() == 0);
 }
