@@ -203,6 +203,7 @@ void Tsif::reset(const EstimateSample& x0) {
   in_contact_.fill(false);
   t_ = x0.t;
   has_previous_ = false;
+  pending_dt_ = 0.0;
   startHealth(x0);
 }
 
@@ -218,7 +219,11 @@ void Tsif::step(const StepInput& raw) {
   std::array<const ContactMeasurement*, kFeet> contact{};  // the stance feet at k+1
   for (const ContactMeasurement& c : in.stance()) contact[c.foot] = &c;
 
-  if (!has_previous_ || in.dt == 0.0) {
+  // Intervals shorter than kMinDt are carried over to the next step: the IMU residual of a pair
+  // weighs ~1/dt, and at dt = 1e-12 s it would swamp the prior beyond double precision.
+  const double dt = in.dt + pending_dt_;
+  if (!has_previous_ || dt < kMinDt) {
+    pending_dt_ = has_previous_ ? dt : 0.0;
     // No pair to solve yet: only the feet that are down are placed, d = p + R p_body.
     for (int i = 0; i < kFeet; ++i) {
       if (contact[i] && !in_contact_[i]) {
@@ -231,7 +236,7 @@ void Tsif::step(const StepInput& raw) {
     return;
   }
 
-  const double dt = in.dt;
+  pending_dt_ = 0.0;
   // The pair (x0, x1) = (x_k, x_{k+1}); x1 starts at the IMU prediction of x0.
   State x0 = x_;
   Matrix27 Lambda0 = Lambda_;
@@ -264,7 +269,12 @@ void Tsif::step(const StepInput& raw) {
   }
   std::array<Eigen::Matrix3d, kFeet> W_kin{};  // Cov_i^-1 of the kinematics of stance feet
   for (int i = 0; i < kFeet; ++i) {
-    if (contact[i]) W_kin[i] = contact[i]->cov.llt().solve(Eigen::Matrix3d::Identity());
+    if (!contact[i]) continue;
+    // The variance floor keeps the normal equations factorisable for any admitted covariance
+    // (1e-30 m^2 would weigh 1e30 against a prior of ~1e4).
+    const Eigen::Matrix3d cov =
+        contact[i]->cov + kMinFootVariance * Eigen::Matrix3d::Identity();
+    W_kin[i] = cov.llt().solve(Eigen::Matrix3d::Identity());
   }
 
   Matrix27 S;  // the reduced (marginal) information of x1 of the last iteration

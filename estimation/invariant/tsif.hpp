@@ -77,6 +77,8 @@ namespace legkit::invariant {
 namespace tsif {
 
 constexpr int kFeet = 4;                 // d_1..d_4 (quadruped: FL FR RL RR)
+constexpr double kMinDt = 1e-5;          // [s] shorter steps are carried over to the next one
+constexpr double kMinFootVariance = 1e-12;  // [m^2] (1 um)^2 added to every kinematics covariance
 constexpr int kDim = 9 + 3 * kFeet + 6;  // 27: the error vector of one state
 // Offsets of the blocks in the error vector.
 constexpr int kTheta = 0, kV = 3, kP = 6, kD = 9, kBg = 9 + 3 * kFeet, kBa = kBg + 3;
@@ -172,6 +174,7 @@ class Tsif final : public Estimator {
   double t_ = 0.0;
   model::ImuReading previous_;
   bool has_previous_ = false;
+  double pending_dt_ = 0.0;  // time of the steps shorter than kMinDt, not yet solved over
 };
 
 }  // namespace legkit::invariant

@@ -202,6 +202,30 @@ TEST_CASE("contract: a large but admitted variance is survived", "[estimator]") 
   }
 }
 
+TEST_CASE("contract: a step of 1e-12 s and a variance of 1e-30 m^2 are survived",
+          "[estimator]") {
+  const std::vector<StepInput>& inputs = trot().inputs;
+  std::vector<StepInput> tiny = inputs;  // sample 1500 again, 1e-12 s later
+  StepInput again = tiny[1500];
+  again.t += 1e-12;
+  again.dt = 1e-12;
+  tiny.insert(tiny.begin() + 1501, again);
+  tiny[1502].dt -= 1e-12;
+  std::vector<StepInput> exact = inputs;  // one foot measured with a variance of 1e-30 m^2
+  exact[1500].contacts[0].cov = 1e-30 * Eigen::Matrix3d::Identity();
+  for (const std::string& name : estimatorNames()) {
+    const std::unique_ptr<Estimator> clean = fresh(name);
+    run(*clean, inputs, inputs.size());
+    for (const auto* variant : {&tiny, &exact}) {
+      INFO(name << (variant == &tiny ? ", dt 1e-12" : ", variance 1e-30"));
+      const std::unique_ptr<Estimator> e = fresh(name);
+      run(*e, *variant, variant->size());
+      CHECK(e->health().total() == 0);
+      CHECK((e->estimate().p - clean->estimate().p).norm() < 0.01);
+    }
+  }
+}
+
 TEST_CASE("contract: input no caller can mean throws and changes nothing", "[estimator]") {
   const std::vector<StepInput>& inputs = trot().inputs;
   const double nan = std::nan("");
