@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -279,7 +280,10 @@ TEST_CASE("health guard: the cheap and the full checks", "[estimator]") {
   CHECK(looksPositiveDefinite(P));
   CHECK(isPositiveDefinite(P));
   Eigen::Matrix3d bad = P;
-  bad(0, 1) = 1e-3;  // asymmetric
+  bad(0, 1) = 1e-3;  // asymmetric: found by the full check
+  CHECK_FALSE(isPositiveDefinite(bad));
+  bad = P;
+  bad(0, 2) = std::numeric_limits<double>::infinity();
   CHECK_FALSE(looksPositiveDefinite(bad));
   bad = P;
   bad(2, 2) = std::nan("");
