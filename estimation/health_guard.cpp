@@ -67,9 +67,12 @@ void checkStepInput(const StepInput& in, int max_feet, const char* who) {
     if (c.v_body && !c.v_body->allFinite()) footFail("v_body is not finite");
     if (!c.cov.allFinite()) footFail("covariance is not finite");
     if (!isSymmetric(c.cov)) footFail("covariance is not symmetric");
-    // Sylvester's criterion: the three leading principal minors are positive.
     const Eigen::Matrix3d& C = c.cov;
-    if (!(C(0, 0) > 0.0 && C(0, 0) * C(1, 1) - C(0, 1) * C(1, 0) > 0.0 && C.determinant() > 0.0)) {
+    // Sylvester's criterion: the three leading principal minors are positive (LLT decides where
+    // the minors overflow).
+    const bool minors =
+        C(0, 0) > 0.0 && C(0, 0) * C(1, 1) - C(0, 1) * C(1, 0) > 0.0 && C.determinant() > 0.0;
+    if (!minors && Eigen::LLT<Eigen::Matrix3d>(C).info() != Eigen::Success) {
       footFail("covariance is not positive definite");
     }
   }

@@ -87,6 +87,13 @@ struct Log {
   LogLayout layout;
   std::vector<std::string> comments;
   std::vector<LogRow> rows;
+  // Where it came from, for messages that point into the file: the path (or stream name) given
+  // to readLog, empty for a log made in memory.
+  std::string source;
+
+  // The 1-based line of rows[k] in its file: the comment lines, the header, then one line per
+  // row (the reader allows nothing else in between).
+  std::size_t lineOfRow(std::size_t k) const { return comments.size() + 2 + k; }
 };
 
 // Leg names in column order; foot ids 0..3 of a quadruped log.

@@ -1,10 +1,13 @@
 #include "io/log_reader.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
-#include <iterator>
+#include <new>
 #include <string_view>
 #include <vector>
 
@@ -43,26 +46,55 @@ std::string numberText(double x) {
   return ec == std::errc() ? std::string(buffer, end) : std::string("?");
 }
 
-// Hands out the lines of a file with their 1-based numbers.
+// A field as a message may quote it: bytes that do not print are escaped (\xNN, NUL too) and
+// anything past 40 characters is cut, so that a 100 kB field does not make a 100 kB message.
+std::string shown(std::string_view text) {
+  constexpr std::size_t kMax = 40;
+  std::string out = "'";
+  for (std::size_t i = 0; i < text.size() && i < kMax; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      constexpr char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 0xf];
+    }
+  }
+  out += '\'';
+  if (text.size() > kMax) out += "... (" + std::to_string(text.size()) + " characters)";
+  return out;
+}
+
+// Hands out the lines of a stream with their 1-based numbers, one at a time (the file is never
+// held whole in memory). A line ends at LF, CR LF or a lone CR (old Mac files), so text files
+// from every platform read alike; a UTF-8 byte-order mark before the first line is skipped.
 class LineSource {
  public:
-  explicit LineSource(std::string text) : text_(std::move(text)) {}
+  explicit LineSource(std::istream& in) : buffer_(*in.rdbuf()) {}
   bool next(std::string_view& line) {
-    if (pos_ >= text_.size()) return false;
-    const std::size_t end = text_.find('\n', pos_);
-    const std::size_t stop = end == std::string::npos ? text_.size() : end;
-    line = std::string_view(text_).substr(pos_, stop - pos_);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    pos_ = end == std::string::npos ? text_.size() : end + 1;
-    ++number_;
+    line_.clear();
+    int c = buffer_.sbumpc();
+    if (c == std::char_traits<char>::eof()) return false;
+    while (c != std::char_traits<char>::eof() && c != '\n' && c != '\r') {
+      line_.push_back(static_cast<char>(c));
+      c = buffer_.sbumpc();
+    }
+    if (c == '\r' && buffer_.sgetc() == '\n') buffer_.sbumpc();
+    if (++number_ == 1 && line_.compare(0, 3, "\xEF\xBB\xBF") == 0) line_.erase(0, 3);
+    line = line_;
+    bytes_ += line_.size() + 1;
     return true;
   }
   int number() const { return number_; }
+  std::size_t bytes() const { return bytes_; }  // read so far, about
 
  private:
-  std::string text_;
-  std::size_t pos_ = 0;
+  std::streambuf& buffer_;
+  std::string line_;
   int number_ = 0;
+  std::size_t bytes_ = 0;
 };
 
 class Reader {
@@ -70,9 +102,24 @@ class Reader {
   Reader(std::string source, const ReadOptions& options)
       : source_(std::move(source)), options_(options) {}
 
-  Log read(std::string text) {
-    LineSource lines(std::move(text));
+  // size: the stream's size in bytes when known (0 if not), to reserve the rows at once.
+  Log read(std::istream& in, std::size_t size) {
+    LineSource lines(in);
+    try {
+      return read(lines, size);
+    } catch (const std::bad_alloc&) {
+      fail(lines.number(), "",
+           "the log is too large for this machine's memory (" +
+               (size > 0 ? std::to_string(size) + " bytes, " : std::string()) +
+               std::to_string(rows_read_) + " rows read; a row takes " +
+               std::to_string(sizeof(LogRow)) + " bytes in memory)");
+    }
+  }
+
+ private:
+  Log read(LineSource& lines, std::size_t size) {
     Log log;
+    log.source = source_;
     std::string_view line;
     bool have_header = false;
     while (lines.next(line)) {
@@ -91,6 +138,11 @@ class Reader {
 
     std::vector<std::string_view> fields;
     while (lines.next(line)) {
+      if (log.rows.size() == 1 && size > lines.bytes()) {
+        // Every row of a log has about the same length: reserve them all at once, so that the
+        // vector never holds twice its size while it grows.
+        log.rows.reserve(size / (line.size() + 1) * 11 / 10 + 16);
+      }
       if (line.empty()) {
         // A final newline leaves one empty "line" only at the very end; a blank line inside the
         // data is an error.
@@ -103,13 +155,13 @@ class Reader {
       }
       splitFields(line, fields);
       log.rows.push_back(parseRow(lines.number(), fields));
+      rows_read_ = log.rows.size();
       checkTime(lines.number(), log.rows);
     }
     if (log.rows.empty()) fail(lines.number(), "", "no data rows after the header");
     return log;
   }
 
- private:
   [[noreturn]] void fail(int line, const std::string& column, const std::string& what) const {
     throw LogError(source_, line, column, what);
   }
@@ -120,6 +172,13 @@ class Reader {
     std::vector<bool> seen_name;
     for (std::size_t i = 0; i < names.size(); ++i) {
       const std::string name(names[i]);
+      if (name.size() > 40 || name.find_first_of("\\'") != std::string::npos ||
+          std::any_of(name.begin(), name.end(),
+                      [](char c) { return static_cast<unsigned char>(c) < 0x20 ||
+                                          static_cast<unsigned char>(c) >= 0x7f; })) {
+        fail(header_line_, "",
+             "unknown column " + shown(name) + " (header field " + std::to_string(i + 1) + ")");
+      }
       if (name.empty()) {
         fail(header_line_, "", "header field " + std::to_string(i + 1) + " is empty");
       }
@@ -139,6 +198,7 @@ class Reader {
       columns_.push_back(*column);
     }
     layout = deduceLayout();
+    layout_ = layout;
     layout_has_quaternion_ = layout.ground_truth;
     // Every column the layout implies must be there (a group is all or nothing).
     for (const Column& want : columnsOf(layout)) {
@@ -207,6 +267,11 @@ class Reader {
     if (layout.foot_columns == FootCovariance::kNone && has(Field::kFootP)) {
       fail(header_line_, "foot0_var_x", "missing: foot position columns need their variances");
     }
+    if (layout.joints && layout.foot_columns != FootCovariance::kNone) {
+      fail(header_line_, "",
+           "the log describes its legs twice: joint columns (q_, dq_) and body-frame foot columns "
+           "(foot<k>_p..); give one of the two");
+    }
     if (!layout.joints && layout.foot_columns == FootCovariance::kNone) {
       fail(header_line_, "q_FL_0",
            "missing: a log needs joint columns (q_FL_0..q_RR_2, dq_FL_0..dq_RR_2) or body-frame "
@@ -246,6 +311,7 @@ class Reader {
       checkValue(line, column, value, fields[i]);
       setValue(row, column, value);
     }
+    checkCovariances(line, row, layout_);
     if (layout_has_quaternion_) {
       const double norm = row.gt_q.norm();
       if (std::abs(norm - 1.0) > 1e-6) {
@@ -264,26 +330,48 @@ class Reader {
     if (*first == '+') ++first;  // from_chars takes no plus sign; other tools write one
     const auto [end, ec] = std::from_chars(first, last, value);
     if (ec == std::errc::result_out_of_range) {
-      fail(line, column, "expected a finite number, got '" + std::string(text) + "' (overflow)");
+      // from_chars says the same for both ends of the range; strtod tells them apart.
+      const double magnitude = std::abs(std::strtod(std::string(text).c_str(), nullptr));
+      fail(line, column,
+           "expected a finite number, got " + shown(text) +
+               (magnitude < 1.0 ? " (underflow: too small to represent)"
+                                : " (overflow: too large to represent)"));
     }
     if (ec != std::errc() || end != last) {
-      fail(line, column, "expected a number, got '" + std::string(text) + "'");
+      fail(line, column, "expected a number, got " + shown(text));
     }
     if (!std::isfinite(value)) {
-      fail(line, column, "expected a finite number, got '" + std::string(text) + "'");
+      fail(line, column, "expected a finite number, got " + shown(text));
     }
     return value;
   }
 
   void checkValue(int line, const Column& column, double value, std::string_view text) const {
     if (column.field == Field::kContact && value != 0.0 && value != 1.0) {
-      fail(line, column.name, "expected a contact flag 0 or 1, got '" + std::string(text) + "'");
+      fail(line, column.name, "expected a contact flag 0 or 1, got " + shown(text));
     }
     const bool variance = column.field == Field::kFootVar ||
                           (column.field == Field::kFootCov &&
                            (column.index == 0 || column.index == 3 || column.index == 5));
-    if (variance && value < 0.0) {
-      fail(line, column.name, "expected a variance >= 0, got '" + std::string(text) + "'");
+    if (variance && !(value > 0.0)) {
+      fail(line, column.name,
+           "expected a variance > 0, got " + shown(text) +
+               " (a zero variance claims a perfect measurement, which no filter can take)");
+    }
+  }
+
+  // A full foot covariance must be symmetric positive definite (it is symmetric by
+  // construction: the file gives the upper triangle).
+  void checkCovariances(int line, const LogRow& row, const LogLayout& layout) const {
+    if (layout.foot_columns != FootCovariance::kFull) return;
+    for (int k = 0; k < layout.num_feet; ++k) {
+      const Eigen::LLT<Eigen::Matrix3d> llt(row.feet[static_cast<std::size_t>(k)].cov);
+      if (llt.info() != Eigen::Success) {
+        fail(line, "foot" + std::to_string(k) + "_cov_xx",
+             "foot " + std::to_string(k) +
+                 " covariance (foot" + std::to_string(k) +
+                 "_cov_xx.._zz) is not positive definite");
+      }
     }
   }
 
@@ -308,21 +396,27 @@ class Reader {
   ReadOptions options_;
   int header_line_ = 0;
   bool layout_has_quaternion_ = false;
+  LogLayout layout_;
   std::vector<Column> columns_;  // in header order
+  std::size_t rows_read_ = 0;
 };
 
 }  // namespace
 
 Log readLog(std::istream& in, const std::string& source, const ReadOptions& options) {
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  Log log = Reader(source, options).read(in, 0);
   if (in.bad()) throw LogError(source, 0, "", "read error");
-  return Reader(source, options).read(std::move(text));
+  return log;
 }
 
 Log readLog(const std::string& path, const ReadOptions& options) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw LogError(path, 0, "", "cannot open the file for reading");
-  return readLog(in, path, options);
+  std::error_code error;
+  const std::uintmax_t size = std::filesystem::file_size(path, error);
+  Log log = Reader(path, options).read(in, error ? 0 : static_cast<std::size_t>(size));
+  if (in.bad()) throw LogError(path, 0, "", "read error");
+  return log;
 }
 
 }  // namespace legkit::io

@@ -74,8 +74,9 @@ SimResult simulate(const SimOptions& options, const model::QuadrupedKinematics& 
 
   SimResult out;
   io::Log& log = out.log;
-  log.layout.joints = true;
-  log.layout.torque = options.torque;
+  // One leg description per log (io/log_reader.hpp): the joints, or the feet they give.
+  log.layout.joints = options.foot_columns == io::FootCovariance::kNone;
+  log.layout.torque = options.torque && log.layout.joints;
   log.layout.force = options.force;
   log.layout.contact = options.contact;
   log.layout.ground_truth = options.ground_truth;

@@ -207,7 +207,10 @@ TEST_CASE("Foot columns: variances and incomplete feet", "[57.3][log]") {
   CHECK(io::readLog(dir.write("foot.csv", header + "\n" + row + "\n")).layout.num_feet == 1);
   checkError(dir, "negative_variance.csv",
              header + "\n" + row + "\n" + "0.001,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,-1e-4,1e-4\n",
-             {3, "foot0_var_y", "expected a variance >= 0, got '-1e-4'"});
+             {3, "foot0_var_y", "expected a variance > 0, got '-1e-4'"});
+  checkError(dir, "zero_variance.csv",
+             header + "\n" + row + "\n" + "0.001,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,0,1e-4\n",
+             {3, "foot0_var_y", "a zero variance claims a perfect measurement"});
   checkError(dir, "foot_without_variance.csv",
              "t,gyro_x,gyro_y,gyro_z,acc_x,acc_y,acc_z,foot0_px,foot0_py,foot0_pz\n0,0,0,0,0,0,0,0,"
              "0,0\n",
@@ -216,6 +219,81 @@ TEST_CASE("Foot columns: variances and incomplete feet", "[57.3][log]") {
              {1, "foot1_py", "each foot needs _px _py _pz"});
   checkError(dir, "no_legs.csv", "t,gyro_x,gyro_y,gyro_z,acc_x,acc_y,acc_z\n0,0,0,0,0,0,0\n",
              {1, "q_FL_0", "a log needs joint columns"});
+}
+
+TEST_CASE("Full foot covariances must be positive definite", "[57.3][log]") {
+  const TempDir dir;
+  const std::string header =
+      "t,gyro_x,gyro_y,gyro_z,acc_x,acc_y,acc_z,foot0_px,foot0_py,foot0_pz,foot0_cov_xx,"
+      "foot0_cov_xy,foot0_cov_xz,foot0_cov_yy,foot0_cov_yz,foot0_cov_zz";
+  const std::string good = "0,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,2e-5,0,1e-4,0,1e-4\n";
+  CHECK_NOTHROW(io::readLog(dir.write("spd.csv", header + "\n" + good)));
+  // Positive diagonal, symmetric by construction, but xy too large: eigenvalues 3e-4 and -1e-4.
+  checkError(dir, "indefinite.csv",
+             header + "\n" + good + "0.001,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,2e-4,0,1e-4,0,1e-4\n",
+             {3, "foot0_cov_xx", "foot 0 covariance (foot0_cov_xx.._zz) is not positive definite"});
+  checkError(dir, "zero_cov.csv",
+             header + "\n" + good + "0.001,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,0,0,0,0,1e-4\n",
+             {3, "foot0_cov_yy", "expected a variance > 0"});
+}
+
+TEST_CASE("One leg description per log: joints or feet, not both", "[57.3][log]") {
+  io::Log log;
+  log.layout.joints = true;
+  log.layout.foot_columns = io::FootCovariance::kDiagonal;
+  log.rows.resize(1);
+  for (auto& f : log.rows[0].feet) f.cov = Eigen::Matrix3d::Identity();
+  std::ostringstream out;
+  io::writeLog(out, log, "mem");
+  std::istringstream in(out.str());
+  CHECK_THROWS_WITH(io::readLog(in, "both.csv"),
+                    Catch::Matchers::Contains("both.csv:1: the log describes its legs twice"));
+}
+
+TEST_CASE("Line ends, byte-order mark, and what the reader says of bad bytes", "[57.3][log]") {
+  const std::string header = "t,gyro_x,gyro_y,gyro_z,acc_x,acc_y,acc_z,foot0_px,foot0_py,"
+                             "foot0_pz,foot0_var_x,foot0_var_y,foot0_var_z";
+  const std::string r0 = "0,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,1e-4,1e-4";
+  const std::string r1 = "0.001,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,1e-4,1e-4";
+  for (const std::string eol : {"\n", "\r\n", "\r"}) {
+    for (const std::string bom : {"", "\xEF\xBB\xBF"}) {
+      INFO("eol " << (eol == "\n" ? "LF" : eol == "\r" ? "CR" : "CRLF") << ", bom "
+                  << !bom.empty());
+      std::istringstream in(bom + "# a comment" + eol + header + eol + r0 + eol + r1 + eol);
+      const io::Log log = io::readLog(in, "eol.csv");
+      CHECK(log.rows.size() == 2);
+      CHECK(log.rows[1].t == 0.001);
+      CHECK(log.comments == std::vector<std::string>{"a comment"});
+      CHECK(log.source == "eol.csv");
+      CHECK(log.lineOfRow(1) == 4);
+    }
+  }
+  // Underflow is not overflow; a bad field is escaped and cut.
+  const auto errorOf = [&](const std::string& field) {
+    std::istringstream in(header + "\n" + r0 + "\n0.001,0," + field + ",0,0,0,9.81,0.2,0.1,-0.3,"
+                                                                    "1e-4,1e-4,1e-4\n");
+    try {
+      io::readLog(in, "bad.csv");
+    } catch (const io::LogError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  CHECK_THAT(errorOf("1e-400"), Catch::Matchers::Contains("underflow"));
+  CHECK_THAT(errorOf("1e400"), Catch::Matchers::Contains("overflow"));
+  const std::string nul = errorOf(std::string("1\0002", 3));
+  CHECK_THAT(nul, Catch::Matchers::Contains("'1\\x002'"));
+  const std::string huge = errorOf(std::string(100000, 'x'));
+  CHECK(huge.size() < 200);
+  CHECK_THAT(huge, Catch::Matchers::Contains("(100000 characters)"));
+  std::istringstream garbage(std::string(50000, '\x01') + "\n0\n");
+  try {
+    io::readLog(garbage, "garbage.csv");
+    FAIL("no error");
+  } catch (const io::LogError& e) {
+    CHECK(std::string(e.what()).size() < 300);
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("\\x01\\x01"));
+  }
 }
 
 TEST_CASE("A missing file and an unwritable log are errors too", "[57.3][log]") {

@@ -2,6 +2,7 @@
 // values, including subnormals, huge magnitudes and negative zero.
 #include <rapidcheck/catch.h>
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -26,10 +27,17 @@ rc::Gen<double> anyFiniteDouble() {
                            [](double x) { return std::isfinite(x); });
 }
 
+// Any positive finite double (a variance the reader takes).
+rc::Gen<double> positiveDouble() {
+  return rc::gen::map(rc::gen::suchThat(anyFiniteDouble(), [](double x) { return x != 0.0; }),
+                      [](double x) { return std::abs(x); });
+}
+
 io::LogLayout genLayout() {
   io::LogLayout layout;
   layout.joints = *rc::gen::arbitrary<bool>();
-  const int covariance = *rc::gen::inRange(layout.joints ? 0 : 1, 3);
+  // One leg description per log: joints, or foot columns.
+  const int covariance = layout.joints ? 0 : *rc::gen::inRange(1, 3);
   layout.foot_columns = static_cast<io::FootCovariance>(covariance);
   layout.num_feet = layout.joints ? io::kNumLegs : *rc::gen::inRange(1, io::kMaxFeet + 1);
   layout.torque = layout.joints && *rc::gen::arbitrary<bool>();
@@ -50,12 +58,11 @@ io::LogRow genRow(const std::vector<io::Column>& columns, double t) {
         setValue(row, c, *rc::gen::inRange(0, 2));
         break;
       case io::Field::kFootVar:
-        setValue(row, c, std::abs(*anyFiniteDouble()));
+        setValue(row, c, std::abs(*positiveDouble()));
         break;
       case io::Field::kFootCov: {
         const bool diagonal = c.index == 0 || c.index == 3 || c.index == 5;
-        const double x = *anyFiniteDouble();
-        setValue(row, c, diagonal ? std::abs(x) : x);
+        setValue(row, c, diagonal ? *positiveDouble() : *anyFiniteDouble());
         break;
       }
       case io::Field::kGtQ:
@@ -63,6 +70,17 @@ io::LogRow genRow(const std::vector<io::Column>& columns, double t) {
       default:
         setValue(row, c, *anyFiniteDouble());
         break;
+    }
+  }
+  // The reader takes only positive definite covariances: keep each off-diagonal entry within 0.3
+  // of the smaller variance (diagonally dominant), whatever its magnitude.
+  for (io::FootKinematics& f : row.feet) {
+    for (int i = 0; i < 3; ++i) {
+      for (int j = i + 1; j < 3; ++j) {
+        const double bound = 0.3 * std::min(f.cov(i, i), f.cov(j, j));
+        if (!(std::abs(f.cov(i, j)) <= bound)) f.cov(i, j) = std::copysign(0.5 * bound, f.cov(i, j));
+        f.cov(j, i) = f.cov(i, j);
+      }
     }
   }
   const auto angle = *rc::gen::inRange(-3141, 3142);

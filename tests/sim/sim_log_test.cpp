@@ -65,13 +65,18 @@ TEST_CASE("The simulator can also write the robot-agnostic foot columns", "[57.3
   io::writeLog(file, run.log);
   const io::Log log = io::readLog(file, "feet");
   REQUIRE(log.layout.foot_columns == io::FootCovariance::kFull);
+  REQUIRE_FALSE(log.layout.joints);  // one leg description per log
   REQUIRE(log.layout.num_feet == 4);
+  // The same run with joint columns (same seed, same encoder noise) gives the angles.
+  options.foot_columns = io::FootCovariance::kNone;
+  const sim::SimResult with_joints = sim::simulate(options);
+  const io::LogRow& joints = with_joints.log.rows[500];
   const model::QuadrupedKinematics kin;
   const io::LogRow& row = log.rows[500];
   for (int leg = 0; leg < model::kNumLegs; ++leg) {
     const ContactMeasurement m = io::footMeasurement(log.layout, row, leg);
     CHECK(m.foot == leg);
-    CHECK(m.p_body == kin.footPosition(leg, row.q.segment<3>(3 * leg)));
+    CHECK(m.p_body == kin.footPosition(leg, joints.q.segment<3>(3 * leg)));
     CHECK(m.cov == m.cov.transpose());
     CHECK(m.cov.trace() > 3e-6);  // at least the 1 mm kinematic-model error per axis
   }
