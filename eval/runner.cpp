@@ -2,39 +2,119 @@
 
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "eval/consistency.hpp"
 
 namespace legkit::eval {
+namespace {
+
+bool finite(const EstimateSample& x) {
+  return std::isfinite(x.t) && x.q.coeffs().allFinite() && x.v.allFinite() && x.p.allFinite();
+}
+
+}  // namespace
+
+std::string rowLocation(const io::Log& log, std::size_t k) {
+  if (log.source.empty()) return {};
+  return log.source + ":" + std::to_string(log.lineOfRow(k));
+}
 
 RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& frontend,
                    const EstimateSample& x0) {
   RunResult result;
   result.name = estimator.name();
   result.trajectory.reserve(log.rows.size());
-  estimator.reset(x0);
   std::chrono::duration<double, std::micro> busy{0};
-  for (std::size_t k = 0; k < log.rows.size(); ++k) {
-    const double dt = k == 0 ? 0.0 : log.rows[k].t - log.rows[k - 1].t;
-    const StepInput in = frontend.input(log.rows[k], dt);
-    const auto t0 = std::chrono::steady_clock::now();
-    estimator.step(in);
-    busy += std::chrono::steady_clock::now() - t0;
-    result.trajectory.push_back(estimator.estimate());
-    const std::optional<BaseCovariance> cov = estimator.covariance();
-    if (!cov) continue;
-    result.sigma.push_back(cov->P.diagonal().cwiseSqrt());
-    result.nees_dof = neesDof(*cov);
-    if (log.layout.ground_truth) {
-      const io::LogRow& row = log.rows[k];
-      const EstimateSample truth{row.t, row.gt_q, row.gt_v, row.gt_p};
-      result.nees.push_back(nees(truth, result.trajectory.back(), *cov));
+  std::size_t steps = 0;
+  std::size_t k = 0;
+  const auto fail = [&](const std::string& what) {
+    RunFailure f;
+    f.what = what;
+    f.row = k;
+    f.t = k < log.rows.size() ? log.rows[k].t : x0.t;
+    f.where = k < log.rows.size() ? rowLocation(log, k) : std::string();
+    result.failure = std::move(f);
+  };
+  try {
+    estimator.reset(x0);
+  } catch (const std::exception& e) {
+    fail(std::string("reset threw: ") + e.what());
+  } catch (...) {
+    fail("reset threw an exception that is not a std::exception");
+  }
+  for (; !result.failure && k < log.rows.size(); ++k) {
+    const io::LogRow& row = log.rows[k];
+    try {
+      const double dt = k == 0 ? 0.0 : row.t - log.rows[k - 1].t;
+      const StepInput in = frontend.input(row, dt);
+      const auto t0 = std::chrono::steady_clock::now();
+      estimator.step(in);
+      busy += std::chrono::steady_clock::now() - t0;
+      ++steps;
+      const EstimateSample x = estimator.estimate();
+      if (!finite(x)) {
+        fail("non-finite estimate");
+        break;
+      }
+      const std::optional<BaseCovariance> cov = estimator.covariance();
+      if (cov && !cov->P.allFinite()) {
+        fail("non-finite covariance");
+        break;
+      }
+      if (cov && !(cov->P.diagonal().array() >= 0.0).all()) {
+        fail("covariance with a negative variance on its diagonal");
+        break;
+      }
+      double e = 0.0;
+      if (cov && log.layout.ground_truth) {
+        const EstimateSample truth{row.t, row.gt_q, row.gt_v, row.gt_p};
+        try {
+          e = nees(truth, x, *cov);
+        } catch (const std::invalid_argument&) {
+          fail(std::string("covariance not symmetric positive definite") +
+               (cov->has_attitude ? "" : " (velocity-position block)") + ": NEES undefined");
+          break;
+        }
+      }
+      result.trajectory.push_back(x);
+      if (!cov) continue;
+      result.sigma.push_back(cov->P.diagonal().cwiseSqrt());
+      result.nees_dof = neesDof(*cov);
+      if (log.layout.ground_truth) result.nees.push_back(e);
+    } catch (const std::exception& e) {
+      fail(std::string("threw: ") + e.what());
+      break;
+    } catch (...) {
+      fail("threw an exception that is not a std::exception");
+      break;
     }
   }
-  result.us_per_step = log.rows.empty() ? 0.0 : busy.count() / log.rows.size();
+  result.health = estimator.health();
+  result.us_per_step = steps == 0 ? 0.0 : busy.count() / static_cast<double>(steps);
   return result;
+}
+
+std::string describe(const RunFailure& failure) {
+  std::ostringstream os;
+  if (!failure.where.empty()) os << failure.where << ", ";
+  os << "t = " << failure.t << " s (row " << failure.row << "): " << failure.what;
+  return os.str();
+}
+
+std::string describe(const Health& health) {
+  std::string s;
+  for (int f = 0; f < static_cast<int>(Fault::kCount); ++f) {
+    const std::uint64_t n = health.count[static_cast<std::size_t>(f)];
+    if (n == 0) continue;
+    if (!s.empty()) s += ", ";
+    s += std::to_string(n) + " " + faultName(static_cast<Fault>(f));
+  }
+  return s;
 }
 
 double normalisedAnees(const RunResult& run) {

@@ -1,21 +1,42 @@
 // Runs an estimator over a whole log and times each step.
 #pragma once
 
+#include <cstddef>
+#include <optional>
+#include <string>
+
 #include "estimation/estimator.hpp"
+#include "estimation/health.hpp"
 #include "estimation/log_frontend.hpp"
 #include "eval/trajectory.hpp"
 #include "io/log.hpp"
 
 namespace legkit::eval {
 
+// Why and where a run stopped early: the estimator threw, or handed back an estimate or a
+// covariance the evaluation cannot use (not finite, not positive definite).
+struct RunFailure {
+  std::string what;     // the reason, e.g. "threw: ..." or "non-finite estimate"
+  std::size_t row = 0;  // index of the log row at which it stopped
+  double t = 0.0;       // that row's time [s]
+  std::string where;    // "file:line" of that row when the log names its file, else empty
+};
+
 struct RunResult {
   std::string name;
-  Trajectory trajectory;   // one estimate per log row
+  // One estimate per log row; after a failure, one per row before the failing row.
+  Trajectory trajectory;
   double us_per_step = 0;  // mean wall time of Estimator::step [microseconds]
-  // For filters (Estimator::covariance()), else empty:
+  // For filters (Estimator::covariance()), else empty (same rows as trajectory):
   std::vector<Eigen::Matrix<double, 9, 1>> sigma;  // per row, sqrt of diag P: (theta, v, p)
   std::vector<double> nees;  // per row, against the log's ground truth (empty without one)
   int nees_dof = 0;          // 9, or 6 for a filter without attitude; 0 for no covariance
+  Health health;             // the estimator's health at the end of the run (or at its failure)
+  std::optional<RunFailure> failure;  // set when the run stopped early
+
+  bool failed() const { return failure.has_value(); }
+  // Finished, and the estimator never had to recover (rejected inputs alone are fine).
+  bool ok() const { return !failed() && health.healthy(); }
 };
 
 // Mean NEES over the rows of one run divided by its degrees of freedom (1 for a consistent
@@ -25,8 +46,23 @@ double normalisedAnees(const RunResult& run);
 // Resets the estimator to x0, feeds it every row of the log (through the front end) and records
 // its estimate after each row, and, for a filter, its standard deviations and (when the log has
 // ground truth) its NEES.
+//
+// Every estimate is checked. If the estimator (or the front end) throws, or returns a non-finite
+// estimate, or a covariance that is not finite or whose NEES block is not symmetric positive
+// definite, the run stops at that row and result.failure says why and where; runOnLog itself
+// never throws for it, so that the caller can go on with other estimators.
 RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& frontend,
                    const EstimateSample& x0);
+
+// "file:line" of log row k when the log knows the file it came from, else empty.
+std::string rowLocation(const io::Log& log, std::size_t k);
+
+// One line for a failure: "[file:line, ]t = T s (row K): what".
+std::string describe(const RunFailure& failure);
+
+// The non-zero counts of a Health, e.g. "3 time gap, 1 state unhealthy (recovered)"; empty when
+// every count is zero.
+std::string describe(const Health& health);
 
 // The initial state a run starts from: the log's ground truth at row 0 when it has one,
 // otherwise at rest at the origin with roll and pitch from the first accelerometer sample.

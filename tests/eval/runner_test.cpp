@@ -1,0 +1,110 @@
+// The runner checks every estimate: an estimator that throws, or hands back NaN, or a covariance
+// NEES cannot use, fails alone, with the row, its time and "file:line"; the runner never throws.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "eval/runner.hpp"
+#include "io/log_reader.hpp"
+#include "io/log_writer.hpp"
+
+using namespace legkit;
+
+namespace {
+
+enum class Planted { kNone, kThrow, kNan, kIndefinite };
+
+// Stands still, and at row `at` does what `fault` says.
+class Faulty final : public Estimator {
+ public:
+  Faulty(Planted fault, std::size_t at) : fault_(fault), at_(at) {}
+  std::string name() const override { return "faulty"; }
+  void reset(const EstimateSample& x0) override {
+    x_ = x0;
+    k_ = 0;
+  }
+  void step(const StepInput& in) override {
+    x_.t = in.t;
+    if (k_++ != at_) return;
+    if (fault_ == Planted::kThrow) throw std::runtime_error("planted failure");
+    if (fault_ == Planted::kNan) x_.p.x() = std::nan("");
+  }
+  EstimateSample estimate() const override { return x_; }
+  std::optional<BaseCovariance> covariance() const override {
+    BaseCovariance c;
+    if (fault_ == Planted::kIndefinite && k_ > at_) c.P(4, 4) = -1.0;
+    return c;
+  }
+
+ private:
+  Planted fault_;
+  std::size_t at_;
+  std::size_t k_ = 0;
+  EstimateSample x_;
+};
+
+// A 20-row log with ground truth, read back through the reader so that it knows its source.
+io::Log smallLog() {
+  io::Log log;
+  log.layout.ground_truth = true;
+  log.comments = {"one comment"};
+  for (int k = 0; k < 20; ++k) {
+    io::LogRow row;
+    row.t = 1e-3 * k;
+    row.acc.z() = 9.81;
+    log.rows.push_back(row);
+  }
+  std::stringstream file;
+  io::writeLog(file, log);
+  return io::readLog(file, "small.csv");
+}
+
+}  // namespace
+
+TEST_CASE("runner: a healthy run has no failure", "[eval]") {
+  const io::Log log = smallLog();
+  const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
+  Faulty e(Planted::kNone, 0);
+  const eval::RunResult r = eval::runOnLog(e, log, frontend, eval::initialState(log));
+  CHECK_FALSE(r.failed());
+  CHECK(r.ok());
+  CHECK(r.trajectory.size() == 20);
+  CHECK(r.nees.size() == 20);
+}
+
+TEST_CASE("runner: a failing estimator is stopped and located, never thrown through", "[eval]") {
+  const io::Log log = smallLog();
+  const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
+  struct Case {
+    Planted fault;
+    const char* what;
+  };
+  for (const Case& c : {Case{Planted::kThrow, "planted failure"}, Case{Planted::kNan, "non-finite"},
+                        Case{Planted::kIndefinite, "negative variance"}}) {
+    INFO(c.what);
+    Faulty e(c.fault, 7);
+    eval::RunResult r;
+    REQUIRE_NOTHROW(r = eval::runOnLog(e, log, frontend, eval::initialState(log)));
+    REQUIRE(r.failed());
+    CHECK_FALSE(r.ok());
+    CHECK(r.failure->row == 7);
+    CHECK(r.failure->t == 0.007);
+    // One comment line, the header, then rows 0..: row 7 is on line 10.
+    CHECK(r.failure->where == "small.csv:10");
+    CHECK_THAT(r.failure->what, Catch::Matchers::Contains(c.what));
+    CHECK(r.trajectory.size() == 7);
+    CHECK_THAT(eval::describe(*r.failure), Catch::Matchers::StartsWith("small.csv:10, t = 0.007"));
+  }
+}
+
+TEST_CASE("runner: health counts are described in words", "[eval]") {
+  Health h;
+  CHECK(eval::describe(h).empty());
+  h.record(legkit::Fault::kGyroRange, 1.0);
+  h.record(legkit::Fault::kGyroRange, 2.0);
+  h.record(legkit::Fault::kStateUnhealthy, 3.0);
+  CHECK(eval::describe(h) == "2 gyro out of range, 1 state unhealthy (recovered)");
+}
