@@ -1,6 +1,11 @@
 // The legkit command line. `legkit --help` lists the subcommands.
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <stdexcept>
+#include <string>
+
+#include "io/log_error.hpp"
+#include "output.hpp"
 
 #include "cassie_command.hpp"
 #include "lie_accuracy.hpp"
@@ -10,8 +15,14 @@
 #include "tour.hpp"
 
 int main(int argc, char** argv) {
+  using namespace legkit::tools;
   CLI::App app{"legkit: legged-robot state estimation, a teaching and reference kit"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", "legkit " LEGKIT_VERSION);
+  app.footer(
+      "Exit codes: 0 done, every estimator healthy; 1 the command line was wrong; 2 the input\n"
+      "could not be used or an output not written (nothing reported as done); 3 the run\n"
+      "finished but an estimator failed or had to recover (the table says which and where).");
 
   legkit::tools::RunCommand run(app);
 
@@ -31,17 +42,26 @@ int main(int argc, char** argv) {
   legkit::tools::StudyCommand study(app);
   legkit::tools::CassieCommand cassie(app);
 
-  CLI11_PARSE(app, argc, argv);
   try {
-    if (run.parsed()) return run.run(std::cout);
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? kExitOk : kExitUsage;  // --help and --version exit 0
+  }
+  std::string command_line;
+  for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
+  try {
+    if (run.parsed()) return run.run(std::cout, command_line);
     if (*tour) return legkit::tools::lieTour(std::cout, seed);
     if (*accuracy) return legkit::tools::lieAccuracy(std::cout, accuracyCsv, accuracyPoints);
     if (sim.parsed()) return sim.run(std::cout);
     if (study.parsed()) return study.run(std::cout);
     if (cassie.parsed()) return cassie.run(std::cout);
-  } catch (const std::exception& e) {
+  } catch (const std::invalid_argument& e) {  // e.g. an unknown scenario or estimator name
     std::cerr << "legkit: " << e.what() << "\n";
-    return 2;
+    return kExitUsage;
+  } catch (const std::exception& e) {  // the input or an output: LogError, InputError, ...
+    std::cerr << "legkit: " << e.what() << "\n";
+    return kExitInput;
   }
   return 0;
 }

@@ -1,6 +1,8 @@
 #include "run_command.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -18,6 +20,7 @@
 #include "eval/runner.hpp"
 #include "io/log_reader.hpp"
 #include "io/log_writer.hpp"
+#include "output.hpp"
 #include "sim/simulator.hpp"
 
 namespace legkit::tools {
@@ -33,9 +36,7 @@ struct Row {
 // One row per log row: the estimate and, for a filter, its standard deviations in the
 // BaseCovariance convention (sigma_theta*, sigma_v*, sigma_p*) and its NEES. A comment line gives
 // the NEES degrees of freedom and its single-run 95 % bounds for the plots.
-void writeEstimates(const fs::path& path, const eval::RunResult& run) {
-  std::ofstream f(path);
-  if (!f) throw std::runtime_error("cannot write " + path.string());
+void writeEstimates(std::ostream& f, const eval::RunResult& run) {
   const bool filter = !run.sigma.empty();
   const bool nees = !run.nees.empty();
   if (nees) {
@@ -76,7 +77,9 @@ void printTable(std::ostream& out, const std::vector<Row>& rows) {
   out << '\n';
   for (const Row& r : rows) {
     std::vector<std::string> cells = {r.run.name};
-    if (r.metrics) {
+    if (r.run.failed()) {
+      cells.insert(cells.end(), {"FAILED", "-", "-", "-", "-", "-", "-"});
+    } else if (r.metrics) {
       const eval::Metrics& m = *r.metrics;
       cells.insert(cells.end(),
                    {cell(m.position_rmse, 3), cell(m.velocity_rmse, 3), cell(m.drift_percent, 1),
@@ -84,19 +87,38 @@ void printTable(std::ostream& out, const std::vector<Row>& rows) {
     } else {
       cells.insert(cells.end(), 5, "-");
     }
-    const double anees = eval::normalisedAnees(r.run);
-    cells.push_back(std::isnan(anees) ? "-" : cell(anees, 2));
-    cells.push_back(cell(r.run.us_per_step, 2));
+    if (!r.run.failed()) {
+      const double anees = eval::normalisedAnees(r.run);
+      cells.push_back(std::isnan(anees) ? "-" : cell(anees, 2));
+      cells.push_back(cell(r.run.us_per_step, 2));
+    }
     for (int i = 0; i < 8; ++i)
       out << std::setw(width[i]) << (i == 0 ? std::left : std::right) << cells[i] << ' ';
     out << '\n';
+  }
+  // What went wrong, under the table: failures first, then what the estimators rejected.
+  for (const Row& r : rows) {
+    if (r.run.failed()) out << "FAILED " << r.run.name << ": " << eval::describe(*r.run.failure) << '\n';
+  }
+  for (const Row& r : rows) {
+    const std::string health = eval::describe(r.run.health);
+    if (!health.empty()) out << "health of " << r.run.name << ": " << health << '\n';
   }
 }
 
 nlohmann::json toJson(const std::vector<Row>& rows) {
   nlohmann::json all = nlohmann::json::array();
   for (const Row& r : rows) {
-    nlohmann::json j = {{"estimator", r.run.name}, {"us_per_step", r.run.us_per_step}};
+    nlohmann::json j = {{"estimator", r.run.name},
+                        {"us_per_step", r.run.us_per_step},
+                        {"healthy", r.run.ok()}};
+    if (r.run.failed()) j["failure"] = eval::describe(*r.run.failure);
+    nlohmann::json health = nlohmann::json::object();
+    for (int f = 0; f < static_cast<int>(Fault::kCount); ++f) {
+      const std::uint64_t n = r.run.health.count[static_cast<std::size_t>(f)];
+      if (n > 0) health[faultName(static_cast<Fault>(f))] = n;
+    }
+    j["health"] = health;
     const double anees = eval::normalisedAnees(r.run);
     j["anees"] = std::isnan(anees) ? nlohmann::json(nullptr) : nlohmann::json(anees);
     if (r.metrics) {
@@ -119,6 +141,34 @@ nlohmann::json toJson(const std::vector<Row>& rows) {
   return all;
 }
 
+// The time base of a recorded log: a median period outside [10 us, 100 ms] means the
+// timestamps are not in seconds; a step longer than max_gap (default: 10 median periods) is a
+// hole in the log that no estimator should bridge. Throws InputError naming the file and line.
+void checkTimeBase(const io::Log& log, std::optional<double> max_gap) {
+  if (log.rows.size() < 2) return;
+  std::vector<double> dt(log.rows.size() - 1);
+  for (std::size_t k = 1; k < log.rows.size(); ++k) dt[k - 1] = log.rows[k].t - log.rows[k - 1].t;
+  std::vector<double> sorted = dt;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  if (median < 1e-5 || median > 0.1) {
+    std::ostringstream os;
+    os << log.source << ": the median time between samples is " << median
+       << " s, outside [1e-05, 0.1] s: are the timestamps in seconds? (chapters/57.0)";
+    throw InputError(os.str());
+  }
+  const double bound = max_gap.value_or(10.0 * median);
+  for (std::size_t k = 1; k < log.rows.size(); ++k) {
+    if (dt[k - 1] <= bound) continue;
+    std::ostringstream os;
+    os << log.source << ":" << log.lineOfRow(k) << ": a gap of " << dt[k - 1] << " s after t = "
+       << log.rows[k - 1].t << " s, more than " << bound << " s ("
+       << (max_gap ? "--max-gap" : "10 median sample periods; --max-gap sets another bound")
+       << ")";
+    throw InputError(os.str());
+  }
+}
+
 }  // namespace
 
 RunCommand::RunCommand(CLI::App& app)
@@ -132,12 +182,15 @@ RunCommand::RunCommand(CLI::App& app)
   c.add_option("--seed", seed_, "Random seed of the simulation")->capture_default_str();
   c.add_option("--log", log_, "Run on this recorded log (CSV, chapters/57.0) instead")
       ->check(CLI::ExistingFile);
+  c.add_option("--max-gap", max_gap_,
+               "Longest step allowed between samples of --log [s] (default 10 median periods)")
+      ->check(CLI::PositiveNumber);
   c.add_option("--out", out_dir_, "Output folder (default legkit-out/<scenario>-seed<seed>)");
   c.add_flag("--json", json_, "Print the summary as JSON (one object per estimator)");
   c.add_flag("!--no-plots", plots_, "Do not draw the PNG plots");
 }
 
-int RunCommand::run(std::ostream& out) const {
+int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   io::Log log;
   std::string source;
   // The contacts' noise the filters are told: for a simulated log, the simulator's own, so that
@@ -146,6 +199,7 @@ int RunCommand::run(std::ostream& out) const {
   FrontendNoise noise;
   if (!log_.empty()) {
     log = io::readLog(log_);
+    checkTimeBase(log, max_gap_ > 0 ? std::optional<double>(max_gap_) : std::nullopt);
     source = log_;
   } else {
     sim::SimOptions options;
@@ -163,8 +217,17 @@ int RunCommand::run(std::ostream& out) const {
                        : !log_.empty()
                            ? fs::path("legkit-out") / fs::path(log_).stem()
                            : fs::path("legkit-out") / (scenario_ + "-seed" + std::to_string(seed_));
-  fs::create_directories(dir);
-  if (log_.empty()) io::writeLog((dir / "log.csv").string(), log);
+  // The folder is complete only once summary.json is in it: that goes first, and is written last.
+  makeOutputFolder(dir);
+  std::error_code ignored;
+  fs::remove(dir / "summary.json", ignored);
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ignored)) {
+    const std::string name = e.path().filename().string();
+    const bool estimate = name.rfind("estimate_", 0) == 0 && e.path().extension() == ".csv";
+    if (estimate || e.path().extension() == ".png") fs::remove(e.path(), ignored);
+  }
+  const fs::path log_path = log_.empty() ? dir / "log.csv" : fs::path(log_);
+  if (log_.empty()) writeAtomically(log_path, [&](std::ostream& f) { io::writeLog(f, log); });
 
   const LogFrontend frontend(log.layout, model::QuadrupedKinematics(), noise);
   const EstimateSample x0 = eval::initialState(log);
@@ -172,10 +235,27 @@ int RunCommand::run(std::ostream& out) const {
   for (const std::string& name : estimatorNames()) {
     const std::unique_ptr<Estimator> e = makeEstimator(name);
     Row r{eval::runOnLog(*e, log, frontend, x0), std::nullopt};
-    if (log.layout.ground_truth) r.metrics = eval::compare(log, r.run.trajectory);
-    writeEstimates(dir / ("estimate_" + r.run.name + ".csv"), r.run);
+    if (log.layout.ground_truth && !r.run.failed()) r.metrics = eval::compare(log, r.run.trajectory);
+    writeAtomically(dir / ("estimate_" + r.run.name + ".csv"),
+                    [&](std::ostream& f) { writeEstimates(f, r.run); });
     rows.push_back(std::move(r));
   }
+  bool all_ok = true;
+  for (const Row& r : rows) all_ok = all_ok && r.run.ok();
+  const int status = all_ok ? kExitOk : kExitUnhealthy;
+
+  std::string plots;
+  if (plots_) {
+    plots = plot("run_plots.py", {dir.string(), "--log", log_path.string()});
+    if (plots.empty()) plots = "plots";
+  }
+  nlohmann::json summary = {{"legkit_version", LEGKIT_VERSION},
+                            {"command", command_line},
+                            {"source", source},
+                            {"samples", log.rows.size()},
+                            {"exit_status", status},
+                            {"estimators", toJson(rows)}};
+  writeAtomically(dir / "summary.json", [&](std::ostream& f) { f << summary.dump(2) << '\n'; });
 
   if (json_) {
     out << toJson(rows).dump(2) << '\n';
@@ -185,17 +265,10 @@ int RunCommand::run(std::ostream& out) const {
     out << "\nANEES: the mean over the run of NEES / its degrees of freedom (9, or 6 for the "
            "linear KF, whose attitude is an input); about 1 for a consistent filter.\n";
     if (!log.layout.ground_truth) out << "\n(the log has no ground truth: errors not computed)\n";
-    out << "\nwrote " << dir.string() << "/ (log, estimates";
+    out << "\nwrote " << dir.string() << "/ (" << (log_.empty() ? "log, " : "") << "estimates"
+        << (plots.empty() ? "" : ", " + plots) << ", summary.json)\n";
   }
-  if (plots_ && log.layout.ground_truth) {
-    const std::string command = "/usr/bin/python3 '" LEGKIT_SOURCE_DIR
-                                "/tools/plots/run_plots.py' '" +
-                                dir.string() + "' > /dev/null";
-    const bool drawn = std::system(command.c_str()) == 0;
-    if (!json_) out << (drawn ? ", plots" : "; plots FAILED: is python3-matplotlib installed?");
-  }
-  if (!json_) out << ")\n";
-  return 0;
+  return status;
 }
 
 }  // namespace legkit::tools

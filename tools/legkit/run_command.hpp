@@ -19,7 +19,8 @@ class RunCommand {
   RunCommand& operator=(const RunCommand&) = delete;
 
   bool parsed() const { return static_cast<bool>(*command_); }
-  int run(std::ostream& out) const;
+  // Returns the exit code (tools/legkit/output.hpp); command_line goes into summary.json.
+  int run(std::ostream& out, const std::string& command_line) const;
 
  private:
   CLI::App* command_;
@@ -27,6 +28,7 @@ class RunCommand {
   double duration_ = 60.0;
   unsigned seed_ = 1;
   std::string log_;
+  double max_gap_ = 0.0;  // 0: 10 median periods
   std::string out_dir_;
   bool json_ = false;
   bool plots_ = true;

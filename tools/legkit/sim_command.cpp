@@ -5,6 +5,7 @@
 
 #include "io/log_writer.hpp"
 #include "model/quadruped.hpp"
+#include "output.hpp"
 #include "sim/simulator.hpp"
 
 namespace legkit::tools {
@@ -95,7 +96,7 @@ int SimCommand::run(std::ostream& out) const {
   const auto start = std::chrono::steady_clock::now();
   const sim::SimResult result = sim::simulate(options);
   const auto simulated = std::chrono::steady_clock::now();
-  io::writeLog(out_, result.log);
+  writeAtomically(out_, [&](std::ostream& f) { io::writeLog(f, result.log, out_); });
   const auto written = std::chrono::steady_clock::now();
   const auto seconds = [](auto d) { return std::chrono::duration<double>(d).count(); };
   out << "legkit sim: " << scenario_ << ", " << duration_ << " s, seed " << seed_ << ": "

@@ -15,6 +15,7 @@
 #include "eval/metrics.hpp"
 #include "eval/monte_carlo.hpp"
 #include "eval/runner.hpp"
+#include "output.hpp"
 #include "study_filters.hpp"
 
 namespace legkit::tools {
@@ -22,11 +23,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::ofstream openCsv(const fs::path& path) {
-  std::ofstream f(path);
-  if (!f) throw std::runtime_error("cannot write " + path.string());
-  f << std::setprecision(8);
-  return f;
+// A study's table, kept in memory while the runs go on and written atomically at the end.
+std::ostringstream newCsv() {
+  std::ostringstream csv;
+  csv << std::setprecision(8);
+  return csv;
 }
 
 std::string fixed(double value, int precision) {
@@ -65,17 +66,16 @@ int StudyCommand::run(std::ostream& out) const {
 
 void StudyCommand::plot(std::ostream& out, const std::string& study, const std::string& dir) const {
   if (!plots_) return;
-  const std::string command = "/usr/bin/python3 '" LEGKIT_SOURCE_DIR
-                              "/tools/plots/study_plots.py' " +
-                              study + " '" + dir + "' > /dev/null";
-  const bool drawn = std::system(command.c_str()) == 0;
-  out << (drawn ? "figure: " + dir + "/" + study + ".png\n"
-                : std::string("figure FAILED: is python3-matplotlib installed?\n"));
+  const std::string failed = tools::plot("study_plots.py", {study, dir});
+  out << (failed.empty() ? "figure: " + dir + "/" + study + ".png" : failed) << '\n';
 }
 
 // ANEES_k of each filter (with its bounds) over `runs` runs of the default trot, every filter with
 // its default parameters; each run's initial error and IMU biases drawn from eval::InitialPrior.
 int StudyCommand::consistency(std::ostream& out) const {
+  const fs::path dir =
+      out_dir_.empty() ? fs::path("legkit-out/study-consistency") : fs::path(out_dir_);
+  makeOutputFolder(dir);  // before the runs: a bad --out fails at once
   eval::MonteCarloOptions options;
   options.runs = runs_ > 0 ? runs_ : 40;
   options.sim.duration = duration_ > 0 ? duration_ : 60.0;
@@ -90,10 +90,7 @@ int StudyCommand::consistency(std::ostream& out) const {
   }
   const std::vector<eval::MonteCarloEstimate> result = eval::monteCarlo(options, filters);
 
-  const fs::path dir =
-      out_dir_.empty() ? fs::path("legkit-out/study-consistency") : fs::path(out_dir_);
-  fs::create_directories(dir);
-  std::ofstream csv = openCsv(dir / "consistency.csv");
+  std::ostringstream csv = newCsv();
   csv << "# runs " << options.runs << '\n' << "filter,dof,lower,upper,t,anees\n";
   const std::size_t every = 10;  // 100 Hz is plenty for the figure
   for (const eval::MonteCarloEstimate& r : result) {
@@ -119,7 +116,7 @@ int StudyCommand::consistency(std::ostream& out) const {
   }
   out << "\n(ANEES/dof: the mean over time of ANEES_k / dof; inside: the share of samples k whose "
          "ANEES_k lies inside the bounds)\n";
-  csv.close();  // the script reads it
+  writeAtomically(dir / "consistency.csv", [&](std::ostream& f) { f << csv.str(); });
   plot(out, "consistency", dir.string());
   return 0;
 }
@@ -140,8 +137,8 @@ int StudyCommand::convergence(std::ostream& out) const {
 
   const fs::path dir =
       out_dir_.empty() ? fs::path("legkit-out/study-convergence") : fs::path(out_dir_);
-  fs::create_directories(dir);
-  std::ofstream csv = openCsv(dir / "convergence.csv");
+  makeOutputFolder(dir);
+  std::ostringstream csv = newCsv();
   csv << "# runs " << runs << " duration " << duration << '\n'
       << "filter,angle_deg,runs,converged_fraction,median_time_s\n";
   // table[angle][filter] = (fraction, median time)
@@ -216,7 +213,7 @@ int StudyCommand::convergence(std::ostream& out) const {
     }
     out << '\n';
   }
-  csv.close();  // the script reads it
+  writeAtomically(dir / "convergence.csv", [&](std::ostream& f) { f << csv.str(); });
   plot(out, "convergence", dir.string());
   return 0;
 }
@@ -229,8 +226,8 @@ int StudyCommand::sweep(std::ostream& out) const {
   const double duration = duration_ > 0 ? duration_ : 20.0;
   constexpr double window = 1.0;  // [s], two strides of the default trot
   const fs::path dir = out_dir_.empty() ? fs::path("legkit-out/study-sweep") : fs::path(out_dir_);
-  fs::create_directories(dir);
-  std::ofstream csv = openCsv(dir / "sweep.csv");
+  makeOutputFolder(dir);
+  std::ostringstream csv = newCsv();
   csv << "# runs " << runs << " duration " << duration << " window " << window << '\n'
       << "parameter,scale,position_rmse,velocity_rmse,velocity_bias,velocity_variance,anees\n";
   const char* parameters[] = {"foot process noise", "accelerometer noise", "measurement noise"};
@@ -277,7 +274,7 @@ int StudyCommand::sweep(std::ostream& out) const {
           << fixed(r[0].mean_anees, 2) << '\n';
     }
   }
-  csv.close();  // the script reads it
+  writeAtomically(dir / "sweep.csv", [&](std::ostream& f) { f << csv.str(); });
   plot(out, "sweep", dir.string());
   return 0;
 }

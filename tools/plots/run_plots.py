@@ -1,10 +1,12 @@
 """Plots of one `legkit run` output folder: trajectory top view and error over time.
 
-Usage: /usr/bin/python3 tools/plots/run_plots.py <folder>
-Reads <folder>/log.csv (ground truth gt_*) and every <folder>/estimate_<name>.csv and writes
-<folder>/trajectory-top.png and <folder>/errors.png, and, for the filters (estimates with sigma_*
-columns), <folder>/bounds.png (position and velocity errors with their 3-sigma bounds) and
-<folder>/nees.png (NEES over time with the single-run 95 % chi-square bounds).
+Usage: /usr/bin/python3 tools/plots/run_plots.py <folder> [--log LOG]
+Reads the run's log (LOG, by default <folder>/log.csv) and every <folder>/estimate_<name>.csv and
+writes <folder>/trajectory-top.png. When the log has ground truth (gt_*) it also writes
+<folder>/errors.png, and, for the filters (estimates with sigma_* columns), <folder>/bounds.png
+(position and velocity errors with their 3-sigma bounds) and <folder>/nees.png (NEES over time
+with the single-run 95 % chi-square bounds). Without ground truth, <folder>/sigma.png shows the
+filters' position and velocity standard deviations instead.
 """
 import csv
 import glob
@@ -19,7 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 def has_column(path, column):
-    with open(path, newline="") as f:
+    with open(path, newline="", encoding="utf-8-sig") as f:
         header = next(line for line in f if not line.startswith("#"))
     return column in header.strip().split(",")
 
@@ -35,7 +37,7 @@ def nees_bounds(path):
 
 def read_csv(path, columns):
     """Returns {column: [floats]} for the requested columns; '#' comment lines are skipped."""
-    with open(path, newline="") as f:
+    with open(path, newline="", encoding="utf-8-sig") as f:
         rows = csv.DictReader(line for line in f if not line.startswith("#"))
         data = {c: [] for c in columns}
         for row in rows:
@@ -44,13 +46,52 @@ def read_csv(path, columns):
     return data
 
 
-def main(folder):
-    truth = read_csv(os.path.join(folder, "log.csv"),
-                     ["t", "gt_px", "gt_py", "gt_pz", "gt_vx", "gt_vy", "gt_vz"])
+def plot_without_truth(folder, estimates):
+    """Trajectory and, for the filters, their standard deviations: all a log without truth gives."""
+    fig, ax = plt.subplots(figsize=(7, 6))
+    for name, e in estimates.items():
+        ax.plot(e["px"], e["py"], lw=1, label=name)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title("Trajectory, top view (the log has no ground truth)")
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "trajectory-top.png"), dpi=120)
+    filters = {}
+    for name in estimates:
+        path = os.path.join(folder, "estimate_" + name + ".csv")
+        if has_column(path, "sigma_px"):
+            filters[name] = read_csv(path, ["t", "sigma_px", "sigma_py", "sigma_vx", "sigma_vy"])
+    if not filters:
+        return
+    fig, (ap, av) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    for name, e in filters.items():
+        ap.semilogy(e["t"], [math.hypot(a, b) for a, b in zip(e["sigma_px"], e["sigma_py"])],
+                    lw=1, label=name)
+        av.semilogy(e["t"], [math.hypot(a, b) for a, b in zip(e["sigma_vx"], e["sigma_vy"])],
+                    lw=1, label=name)
+    ap.set_ylabel("horizontal sigma_p [m]")
+    av.set_ylabel("horizontal sigma_v [m/s]")
+    av.set_xlabel("t [s]")
+    for a in (ap, av):
+        a.grid(True, which="both", alpha=0.3)
+        a.legend()
+    ap.set_title("The filters' own uncertainty")
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "sigma.png"), dpi=120)
+
+
+def main(folder, log_path):
     estimates = {}
     for path in sorted(glob.glob(os.path.join(folder, "estimate_*.csv"))):
         name = os.path.basename(path)[len("estimate_"):-len(".csv")]
         estimates[name] = read_csv(path, ["t", "px", "py", "pz", "vx", "vy", "vz"])
+    if not has_column(log_path, "gt_px"):
+        plot_without_truth(folder, estimates)
+        return
+    truth = read_csv(log_path, ["t", "gt_px", "gt_py", "gt_pz", "gt_vx", "gt_vy", "gt_vz"])
 
     fig, ax = plt.subplots(figsize=(7, 6))
     ax.plot(truth["gt_px"], truth["gt_py"], "k-", lw=2, label="ground truth")
@@ -147,6 +188,10 @@ def main(folder):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2:
+    args = sys.argv[1:]
+    if len(args) == 1:
+        main(args[0], os.path.join(args[0], "log.csv"))
+    elif len(args) == 3 and args[1] == "--log":
+        main(args[0], args[2])
+    else:
         sys.exit(__doc__)
-    main(sys.argv[1])

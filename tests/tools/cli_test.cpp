@@ -1,0 +1,133 @@
+// The legkit command line as a user meets it: exit codes, --version, outputs written atomically
+// with summary.json last, no shell between it and the plot scripts, plots for recorded logs.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "io/log_reader.hpp"
+#include "io/log_writer.hpp"
+#include "sim/simulator.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A fresh folder for one test, removed afterwards.
+struct Folder {
+  fs::path path;
+  explicit Folder(const std::string& name)
+      : path(fs::temp_directory_path() / ("legkit_cli_" + name + "_" + std::to_string(getpid()))) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~Folder() { fs::remove_all(path); }
+};
+
+struct Result {
+  int status = -1;
+  std::string output;  // standard output and error together
+};
+
+// Runs legkit with `arguments` (already quoted for the shell) inside `dir`.
+Result runLegkit(const fs::path& dir, const std::string& arguments) {
+  const fs::path output = dir / "cli-output.txt";
+  const std::string command = "cd '" + dir.string() + "' && " + LEGKIT_EXE + " " + arguments +
+                              " > '" + output.string() + "' 2>&1";
+  const int raw = std::system(command.c_str());
+  Result r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  std::ifstream f(output);
+  std::stringstream text;
+  text << f.rdbuf();
+  r.output = text.str();
+  return r;
+}
+
+std::string slurp(const fs::path& path) {
+  std::ifstream f(path);
+  std::stringstream text;
+  text << f.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
+TEST_CASE("cli: --version, --help and a wrong command line", "[cli]") {
+  const Folder dir("usage");
+  Result r = runLegkit(dir.path, "--version");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("legkit " LEGKIT_VERSION));
+  r = runLegkit(dir.path, "--help");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("Exit codes"));
+  CHECK(runLegkit(dir.path, "run --no-such-option").status == 1);
+  CHECK(runLegkit(dir.path, "run --scenario no-such-scenario").status == 1);
+  CHECK(runLegkit(dir.path, "run --log no-such-file.csv").status == 1);
+}
+
+TEST_CASE("cli: a finished run ends with summary.json, and stale outputs are gone", "[cli]") {
+  const Folder dir("summary");
+  const fs::path out = dir.path / "out";
+  fs::create_directories(out);
+  std::ofstream(out / "estimate_old-filter.csv") << "stale\n";
+  std::ofstream(out / "summary.json") << "stale\n";
+  const Result r = runLegkit(dir.path, "run --duration 2 --no-plots --out out");
+  REQUIRE(r.status == 0);
+  CHECK_FALSE(fs::exists(out / "estimate_old-filter.csv"));
+  const std::string summary = slurp(out / "summary.json");
+  CHECK_THAT(summary, Catch::Matchers::Contains("\"exit_status\": 0"));
+  CHECK_THAT(summary, Catch::Matchers::Contains("\"invariant-ekf\""));
+  for (const fs::directory_entry& e : fs::directory_iterator(out)) {
+    CHECK(e.path().extension() != ".tmp");
+  }
+}
+
+TEST_CASE("cli: a write that fails is an error, and nothing claims it was written", "[cli]") {
+  const Folder dir("full");
+  const fs::path out = dir.path / "out";
+  fs::create_directories(out);
+  // The estimates of one filter go to a full disk.
+  fs::create_symlink("/dev/full", out / "estimate_eskf.csv.tmp");
+  Result r = runLegkit(dir.path, "run --duration 2 --no-plots --out out");
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("cannot write out/estimate_eskf.csv"));
+  CHECK_THAT(r.output, !Catch::Matchers::Contains("wrote"));
+  CHECK_FALSE(fs::exists(out / "summary.json"));
+  // An output folder that is a file.
+  std::ofstream(dir.path / "a-file") << "x\n";
+  r = runLegkit(dir.path, "run --duration 2 --no-plots --out a-file");
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("a-file"));
+  // legkit sim to a full disk.
+  fs::create_symlink("/dev/full", dir.path / "log.csv.tmp");
+  r = runLegkit(dir.path, "sim --duration 1 --out log.csv");
+  CHECK(r.status == 2);
+  CHECK_FALSE(fs::exists(dir.path / "log.csv"));
+}
+
+TEST_CASE("cli: the plot script gets its arguments without a shell", "[cli]") {
+  const Folder dir("inject");
+  const Result r = runLegkit(dir.path, "run --duration 2 --out \"x'; touch INJECTED; echo '\"");
+  CHECK(r.status == 0);
+  CHECK_FALSE(fs::exists(dir.path / "INJECTED"));
+  CHECK(fs::exists(dir.path / "x'; touch INJECTED; echo '" / "trajectory-top.png"));
+}
+
+TEST_CASE("cli: a recorded log without ground truth gets its plots too", "[cli]") {
+  const Folder dir("recorded");
+  legkit::sim::SimOptions options;
+  options.duration = 2.0;
+  options.ground_truth = false;
+  legkit::io::writeLog((dir.path / "robot.csv").string(), legkit::sim::simulate(options).log);
+  const Result r = runLegkit(dir.path, "run --log robot.csv --out out");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("plots"));
+  CHECK(fs::exists(dir.path / "out" / "trajectory-top.png"));
+  CHECK(fs::exists(dir.path / "out" / "sigma.png"));
+}

@@ -1,0 +1,53 @@
+// What the legkit commands share about their output: the exit codes, the errors that map onto
+// them, files written so that a half-written one never carries the final name, and external
+// programs (the plot scripts) started without a shell.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <ostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace legkit::tools {
+
+// Exit codes of every legkit command (README, `legkit --help`).
+enum ExitCode : int {
+  kExitOk = 0,         // done; every estimator finished healthy
+  kExitUsage = 1,      // the command line was wrong
+  kExitInput = 2,      // the input could not be used or the output not written: nothing reported
+  kExitUnhealthy = 3,  // the run finished, but an estimator failed or had to recover
+};
+
+// The input cannot be used (a time base that is not in seconds, a gap): exit code 2.
+class InputError : public std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+// An output could not be written: exit code 2.
+class OutputError : public std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Writes path through `write` into "<path>.tmp", checks the stream after flushing and closing it,
+// and only then renames it to path. Throws OutputError naming path on any failure (a full disk, a
+// missing folder); path then keeps whatever it held before.
+void writeAtomically(const std::filesystem::path& path,
+                     const std::function<void(std::ostream&)>& write);
+
+// Creates the folder (and its parents) for a command's outputs, or throws OutputError.
+void makeOutputFolder(const std::filesystem::path& dir);
+
+// Runs argv[0] with the arguments argv[1..] directly (posix_spawn, no shell: nothing in an
+// argument is ever interpreted), its standard output discarded.
+struct ProgramResult {
+  int status = -1;       // exit status, -1 if it could not be started or was killed
+  std::string errors;    // the last 2000 characters of its standard error
+};
+ProgramResult runProgram(const std::vector<std::string>& argv);
+
+// Draws a command's figures with one of the kit's plot scripts (tools/plots/<script>) and says in
+// one line what came of it: the figures, or what went wrong (the script's last error line).
+std::string plot(const std::string& script, const std::vector<std::string>& arguments);
+
+}  // namespace legkit::tools
