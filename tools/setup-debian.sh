@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages legkit needs, if any are missing. Run as root.
 set -euo pipefail
 packages=(
-  cmake g++ make ccache clang
+  cmake g++ make ccache clang libclang-rt-14-dev
   libeigen3-dev catch2 librapidcheck-dev libceres-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev
   libmujoco-dev libqhull-dev libgl-dev
