@@ -33,17 +33,21 @@ struct BaseCovariance {
 //    sample to hold over the interval. Its contacts are used.
 //  - dt == 0 later on (two samples at one instant): nothing is integrated; contacts are used.
 //  - 0 < dt <= InputLimits::max_dt: the previous admitted IMU sample is held over dt.
-//  - dt > max_dt: a gap (Fault::kTimeGap). Nothing is integrated across it; the state is kept,
-//    the covariance returns to the prior and the sample is treated as a first sample.
+//  - dt > max_dt: a gap (Fault::kTimeGap). Nothing is integrated across it; the estimator
+//    restarts from its current estimate as reset() would (prior covariance, biases and feet
+//    forgotten) and takes the sample as a first sample.
 //  - An IMU sample beyond the sensor's range (Fault::kGyroRange, kAccelRange) is not admitted:
 //    the previous admitted sample stays held over the next interval. A stance foot beyond range
 //    (kContactRange) is dropped from that sample.
-//  - Input no caller can mean (non-finite numbers, dt < 0, a foot id outside the estimator's
-//    capacity or given twice, a covariance that is not symmetric positive definite) throws
+//  - Feet: any id in [0, 8). An estimator with fewer foot states than feet in stance gives them
+//    slots (estimation/foot_slots.hpp) and leaves the extra ones out (kNoFootSlot).
+//  - Input no caller can mean (non-finite numbers, dt < 0, a foot id outside [0, 8) or given
+//    twice, a covariance that is not symmetric positive definite) throws
 //    std::invalid_argument naming the field and the time, before anything changes.
-//  - After every step the estimate is finite and, for a filter, P is finite, symmetric and has a
-//    positive diagonal (checked each step, with a full LDLT factorisation at a fixed interval). If
-//    not, the filter recovers (kStateUnhealthy): it returns to the last state that passed the full
+//  - After every step the estimate is finite and physical and, for a filter, P is finite with a
+//    positive diagonal; every HealthGuard::kFullCheckInterval steps P is also checked symmetric
+//    and positive definite (LDLT), and the state that passes becomes the last good one. If a check
+//    fails, the filter recovers (kStateUnhealthy): it returns to the last state that passed the full
 //    check, with the prior covariance. estimate() is never NaN.
 class Estimator {
  public:

@@ -44,6 +44,7 @@ enum class Fault : int {
   kContactRange,    // a stance foot beyond foot_distance_max or a variance beyond its bound: unused
   kUpdateFailed,    // an innovation covariance did not factorise: that update is skipped
   kStateUnhealthy,  // state not finite, or P not symmetric positive definite: recovered
+  kNoFootSlot,      // more feet in stance than the filter has foot states: the extra one unused
   kCount
 };
 
@@ -51,7 +52,8 @@ enum class Fault : int {
 constexpr const char* faultName(Fault f) {
   constexpr std::array<const char*, static_cast<int>(Fault::kCount)> names = {
       "gyro out of range",     "accelerometer out of range", "time gap",
-      "contact out of range",  "update failed",              "state unhealthy (recovered)"};
+      "contact out of range",  "update failed",              "state unhealthy (recovered)",
+      "no free foot state"};
   return names[static_cast<int>(f)];
 }
 

@@ -173,6 +173,7 @@ void Eskf::reset(const EstimateSample& x0) {
   diag.segment<3>(kBa).setConstant(variance(params_.sigma_accel_bias));
   P_ = diag.asDiagonal();
   in_contact_.fill(false);
+  slots_.reset();
   startHealth(x0);
   t_ = x0.t;
   previous_ = model::ImuReading{};
@@ -282,9 +283,10 @@ void Eskf::initialiseFoot(int i, const ContactMeasurement& c) {
 }
 
 void Eskf::step(const StepInput& raw) {
-  checkStepInput(raw, kFeet, "Eskf");  // throws before anything changes
-  std::optional<StepInput> admitted;
-  const StepInput& in = admitContacts(raw, params_.limits, health_, admitted);
+  checkStepInput(raw, leg_odometry::kMaxContacts, "Eskf");  // throws before anything changes
+  std::optional<StepInput> admitted, slotted;
+  const StepInput& in =
+      slots_.map(admitContacts(raw, params_.limits, health_, admitted), slotted, health_);
   const bool imu_admitted = admitImu(in, params_.limits, health_);
   if (has_previous_ && in.dt > params_.limits.max_dt) {
     health_.record(Fault::kTimeGap, in.t);

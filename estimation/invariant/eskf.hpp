@@ -72,6 +72,7 @@
 #include <optional>
 
 #include "estimation/estimator.hpp"
+#include "estimation/foot_slots.hpp"
 #include "lie/so3.hpp"
 #include "model/imu_model.hpp"
 #include "model/imu_noise.hpp"
@@ -177,6 +178,7 @@ class Eskf final : public Estimator {
   void initialiseFoot(int i, const ContactMeasurement& c);
 
   EskfParams params_;
+  FootSlots<eskf::kFeet> slots_;  // foot ids of the log -> this filter's foot states
   eskf::State x_;
   eskf::Matrix27 P_ = eskf::Matrix27::Identity();  // covariance of the error dx
   std::array<bool, eskf::kFeet> in_contact_{};

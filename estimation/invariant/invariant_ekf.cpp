@@ -141,6 +141,7 @@ void InvariantEkf::reset(const EstimateSample& x0) {
   t_ = x0.t;
   previous_ = model::ImuReading{};
   has_previous_ = false;
+  slots_.reset();
   startHealth(x0);
 
   // Prior diagonal in the kit's convention, mapped into xi = -T^-1 e.
@@ -158,9 +159,10 @@ void InvariantEkf::reset(const EstimateSample& x0) {
 }
 
 void InvariantEkf::step(const StepInput& raw) {
-  checkStepInput(raw, inekf::kMaxFeet, "InvariantEkf");  // throws before anything changes
-  std::optional<StepInput> admitted;
-  const StepInput& in = admitContacts(raw, params_.limits, health_, admitted);
+  checkStepInput(raw, leg_odometry::kMaxContacts, "InvariantEkf");  // throws before any change
+  std::optional<StepInput> admitted, slotted;
+  const StepInput& in =
+      slots_.map(admitContacts(raw, params_.limits, health_, admitted), slotted, health_);
   const bool imu_admitted = admitImu(in, params_.limits, health_);
   if (has_previous_ && in.dt > params_.limits.max_dt) {
     health_.record(Fault::kTimeGap, in.t);

@@ -69,6 +69,7 @@
 #include <optional>
 
 #include "estimation/estimator.hpp"
+#include "estimation/foot_slots.hpp"
 #include "lie/sek3.hpp"
 #include "model/imu_model.hpp"
 #include "model/imu_noise.hpp"
@@ -179,6 +180,7 @@ class InvariantEkf final : public Estimator {
   int navDim() const { return 3 + 3 * static_cast<int>(X_.numCols()); }
 
   InvariantEkfParams params_;
+  FootSlots<inekf::kMaxFeet> slots_;  // foot ids of the log -> this filter's foot columns
   Group X_{2};
   Eigen::Vector3d b_g_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d b_a_ = Eigen::Vector3d::Zero();

@@ -204,13 +204,15 @@ void Tsif::reset(const EstimateSample& x0) {
   t_ = x0.t;
   has_previous_ = false;
   pending_dt_ = 0.0;
+  slots_.reset();
   startHealth(x0);
 }
 
 void Tsif::step(const StepInput& raw) {
-  checkStepInput(raw, kFeet, "Tsif");  // throws before anything changes
-  std::optional<StepInput> admitted;
-  const StepInput& in = admitContacts(raw, params_.limits, health_, admitted);
+  checkStepInput(raw, leg_odometry::kMaxContacts, "Tsif");  // throws before anything changes
+  std::optional<StepInput> admitted, slotted;
+  const StepInput& in =
+      slots_.map(admitContacts(raw, params_.limits, health_, admitted), slotted, health_);
   const bool imu_admitted = admitImu(in, params_.limits, health_);
   if (has_previous_ && in.dt > params_.limits.max_dt) {
     health_.record(Fault::kTimeGap, in.t);

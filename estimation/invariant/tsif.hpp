@@ -68,6 +68,7 @@
 #include <optional>
 
 #include "estimation/estimator.hpp"
+#include "estimation/foot_slots.hpp"
 #include "lie/so3.hpp"
 #include "model/imu_model.hpp"
 #include "model/imu_noise.hpp"
@@ -168,6 +169,7 @@ class Tsif final : public Estimator {
   void finishStep(const StepInput& in, bool imu_admitted);
 
   TsifParams params_;
+  FootSlots<tsif::kFeet> slots_;  // foot ids of the log -> this filter's foot states
   tsif::State x_;
   tsif::Matrix27 Lambda_ = tsif::Matrix27::Identity();  // information of x_ (tangent at x_)
   std::array<bool, tsif::kFeet> in_contact_{};

@@ -128,13 +128,15 @@ void LinearKf::reset(const EstimateSample& x0) {
   previous_contact_.fill(false);
   has_previous_ = false;
   t_ = x0.t;
+  slots_.reset();
   startHealth(x0);
 }
 
 void LinearKf::step(const StepInput& raw) {
-  checkStepInput(raw, kFeet, "LinearKf");  // throws before anything changes
-  std::optional<StepInput> admitted;
-  const StepInput& in = admitContacts(raw, params_.limits, health_, admitted);
+  checkStepInput(raw, leg_odometry::kMaxContacts, "LinearKf");  // throws before anything changes
+  std::optional<StepInput> admitted, slotted;
+  const StepInput& in =
+      slots_.map(admitContacts(raw, params_.limits, health_, admitted), slotted, health_);
   const bool imu_admitted = admitImu(in, params_.limits, health_);
   if (has_previous_ && in.dt > params_.limits.max_dt) {
     health_.record(Fault::kTimeGap, in.t);

@@ -74,6 +74,7 @@
 #include <optional>
 
 #include "estimation/estimator.hpp"
+#include "estimation/foot_slots.hpp"
 #include "estimation/linear_kf/attitude_filter.hpp"
 #include "model/imu_model.hpp"
 #include "model/imu_noise.hpp"
@@ -200,6 +201,7 @@ class LinearKf final : public Estimator {
                       const Eigen::Matrix3d& Sigma_theta);
 
   LinearKfParams params_;
+  FootSlots<kFeet> slots_;  // foot ids of the log -> this filter's foot states
   AttitudeFilter attitude_;
   Vector18 x_ = Vector18::Zero();
   Eigen::Vector3d a_w_ = Eigen::Vector3d::Zero();  // low-passed world acceleration of the base

@@ -455,7 +455,7 @@ TEST_CASE("LKF: bad input throws and leaves the state untouched", "[57.4][linear
   rejects([&](StepInput& in) { in.contacts[0].p_body.y() = nan; }, "NaN foot position");
   rejects([&](StepInput& in) { in.contacts[1].v_body = Eigen::Vector3d(nan, 0, 0); },
           "NaN foot velocity");
-  rejects([&](StepInput& in) { in.contacts[0].foot = 4; }, "foot id 4");
+  rejects([&](StepInput& in) { in.contacts[0].foot = 8; }, "foot id 8");
   rejects([&](StepInput& in) { in.contacts[0].foot = -1; }, "foot id -1");
   rejects([&](StepInput& in) { in.contacts[1].foot = in.contacts[0].foot; }, "repeated foot");
   rejects([&](StepInput& in) { in.num_contacts = 5; }, "five contacts");
@@ -466,10 +466,10 @@ TEST_CASE("LKF: bad input throws and leaves the state untouched", "[57.4][linear
   CHECK_THROWS_WITH(
       [&] {
         StepInput in = inputs[k];
-        in.contacts[0].foot = 7;
+        in.contacts[0].foot = 9;
         filter.step(in);
       }(),
-      Catch::Contains("foot id 7") && Catch::Contains("out of range [0, 4)"));
+      Catch::Contains("foot id 9") && Catch::Contains("out of range [0, 8)"));
   // And a good sample still goes through afterwards.
   filter.step(inputs[k]);
   CHECK(filter.x() != x);

@@ -348,7 +348,7 @@ TEST_CASE("TSIF: bad input throws and leaves the state untouched", "[57.5][tsif]
        [&](StepInput& in) { in.imu.a_m.z() = std::numeric_limits<double>::infinity(); }},
       {"dt must be finite and non-negative", [](StepInput& in) { in.dt = -1e-3; }},
       {"time t is not finite", [&](StepInput& in) { in.t = nan; }},
-      {"foot id 4 is out of range", [](StepInput& in) { in.contacts[1].foot = 4; }},
+      {"foot id 8 is out of range", [](StepInput& in) { in.contacts[1].foot = 8; }},
       {"foot id -1 is out of range", [](StepInput& in) { in.contacts[0].foot = -1; }},
       {"appears twice", [](StepInput& in) { in.contacts[1].foot = in.contacts[0].foot; }},
       {"p_body is not finite", [&](StepInput& in) { in.contacts[1].p_body.y() = nan; }},
