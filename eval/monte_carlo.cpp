@@ -81,6 +81,11 @@ std::vector<MonteCarloEstimate> monteCarlo(const MonteCarloOptions& options,
         for (std::size_t e = 0; e < E; ++e) {
           const std::unique_ptr<Estimator> estimator = estimators[e].make();
           RunResult run = runOnLog(*estimator, log, frontend, x0);
+          if (run.failed()) {
+            throw RunFailedError(estimators[e].name + " failed in run " + std::to_string(j) +
+                                 " (seed " + std::to_string(sim.seed) +
+                                 "): " + describe(*run.failure));
+          }
           metrics[j][e] = compare(log, run.trajectory);
           if (options.on_run) options.on_run(j, e, log, run);
           run.trajectory.clear();  // the metrics hold what is needed; keep memory bounded

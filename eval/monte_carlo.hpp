@@ -11,6 +11,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,13 @@
 #include "sim/simulator.hpp"
 
 namespace legkit::eval {
+
+// An estimator failed in one run (eval::runOnLog set RunResult::failure): the study's averages
+// cannot be formed. The message names the estimator, the run, its seed and the failure.
+class RunFailedError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 struct NamedEstimator {
   std::string name;
@@ -77,7 +85,8 @@ struct MonteCarloEstimate {
 // kinematic-model error (SimOptions::foot_position_sigma) as the contact point's uncertainty.
 FrontendNoise matchedFrontendNoise(const sim::SimOptions& sim);
 
-// Throws std::invalid_argument for runs < 1; rethrows the first error of any run.
+// Throws std::invalid_argument for runs < 1, RunFailedError when an estimator fails in a run;
+// rethrows the first error of any run.
 std::vector<MonteCarloEstimate> monteCarlo(const MonteCarloOptions& options,
                                            const std::vector<NamedEstimator>& estimators);
 

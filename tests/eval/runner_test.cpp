@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "eval/monte_carlo.hpp"
 #include "eval/runner.hpp"
 #include "io/log_reader.hpp"
 #include "io/log_writer.hpp"
@@ -107,4 +108,21 @@ TEST_CASE("runner: health counts are described in words", "[eval]") {
   h.record(legkit::Fault::kGyroRange, 2.0);
   h.record(legkit::Fault::kStateUnhealthy, 3.0);
   CHECK(eval::describe(h) == "2 gyro out of range, 1 state unhealthy (recovered)");
+}
+
+TEST_CASE("monte carlo: a run whose estimator fails stops the study with its name and row",
+          "[eval]") {
+  eval::MonteCarloOptions options;
+  options.runs = 2;
+  options.threads = 1;
+  options.sim.duration = 0.2;
+  const std::vector<eval::NamedEstimator> estimators = {
+      {"faulty", [] { return std::make_unique<Faulty>(Planted::kThrow, 5); }}};
+  try {
+    eval::monteCarlo(options, estimators);
+    FAIL("monteCarlo did not throw");
+  } catch (const eval::RunFailedError& e) {
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("faulty failed in run 0 (seed 1)"));
+    CHECK_THAT(e.what(), Catch::Matchers::Contains("(row 5): threw: planted failure"));
+  }
 }
