@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -68,7 +69,78 @@ TEST_CASE("cli: --version, --help and a wrong command line", "[cli]") {
   CHECK_THAT(r.output, Catch::Matchers::Contains("Exit codes"));
   CHECK(runLegkit(dir.path, "run --no-such-option").status == 1);
   CHECK(runLegkit(dir.path, "run --scenario no-such-scenario").status == 1);
-  CHECK(runLegkit(dir.path, "run --log no-such-file.csv").status == 1);
+  CHECK(runLegkit(dir.path, "sim --slip-foot XX --out log.csv").status == 1);
+  CHECK(runLegkit(dir.path, "sim --dropout 1 --out log.csv").status == 1);
+  CHECK_FALSE(fs::exists(dir.path / "log.csv"));
+  // A log that cannot be read is an input error, with the reader's message.
+  r = runLegkit(dir.path, "run --log no-such-file.csv");
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("no-such-file.csv"));
+}
+
+TEST_CASE("cli: a bad log is refused with its file and line, unchanged", "[cli]") {
+  const Folder dir("badlog");
+  legkit::sim::SimOptions options;
+  options.duration = 0.2;
+  std::ostringstream text;
+  legkit::io::writeLog(text, legkit::sim::simulate(options).log);
+  // The second data row's time becomes a word.
+  std::istringstream lines(text.str());
+  std::ofstream bad(dir.path / "bad.csv");
+  int line_number = 0, data_rows = 0, spoiled = 0;
+  for (std::string line; std::getline(lines, line);) {
+    ++line_number;
+    if (!line.empty() && std::isdigit(static_cast<unsigned char>(line[0])) && ++data_rows == 2) {
+      line = "zero" + line.substr(line.find(','));
+      spoiled = line_number;
+    }
+    bad << line << '\n';
+  }
+  bad.close();
+  REQUIRE(spoiled > 0);
+  const Result r = runLegkit(dir.path, "run --log bad.csv --out out --no-plots");
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output,
+             Catch::Matchers::StartsWith("legkit: bad.csv:" + std::to_string(spoiled) + ": "));
+  CHECK_FALSE(fs::exists(dir.path / "out"));
+}
+
+TEST_CASE("cli: the time base of a recorded log is checked", "[cli]") {
+  const Folder dir("timebase");
+  legkit::sim::SimOptions options;
+  options.duration = 2.0;
+  options.faults.dropouts = {{1.0, 0.5}};  // no samples for 0.5 s: a gap of 500 periods
+  legkit::io::Log log = legkit::sim::simulate(options).log;
+  legkit::io::writeLog((dir.path / "gap.csv").string(), log);
+  for (legkit::io::LogRow& row : log.rows) row.t *= 1000.0;  // milliseconds
+  legkit::io::writeLog((dir.path / "ms.csv").string(), log);
+
+  Result r = runLegkit(dir.path, "run --log ms.csv --no-plots --out out");
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("ms.csv"));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("in seconds?"));
+  CHECK_FALSE(fs::exists(dir.path / "out"));
+
+  r = runLegkit(dir.path, "run --log gap.csv --no-plots --out out");
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("gap.csv:"));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("a gap of 0.50"));
+  CHECK_FALSE(fs::exists(dir.path / "out" / "summary.json"));
+
+  // Allowed with --max-gap: the estimators reject the gap themselves, and the table says so.
+  r = runLegkit(dir.path, "run --log gap.csv --no-plots --out out --max-gap 1");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("health of eskf: 1 time gap"));
+  CHECK(fs::exists(dir.path / "out" / "summary.json"));
+}
+
+TEST_CASE("cli: a study makes its output folder before its runs", "[cli]") {
+  const Folder dir("study");
+  std::ofstream(dir.path / "a-file") << "x\n";
+  const Result r = runLegkit(dir.path, "study consistency --runs 1 --duration 0.5 --out a-file");
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("a-file"));
+  CHECK_THAT(r.output, !Catch::Matchers::Contains("ANEES"));
 }
 
 TEST_CASE("cli: a finished run ends with summary.json, and stale outputs are gone", "[cli]") {
@@ -83,6 +155,8 @@ TEST_CASE("cli: a finished run ends with summary.json, and stale outputs are gon
   const std::string summary = slurp(out / "summary.json");
   CHECK_THAT(summary, Catch::Matchers::Contains("\"exit_status\": 0"));
   CHECK_THAT(summary, Catch::Matchers::Contains("\"invariant-ekf\""));
+  CHECK_THAT(summary, Catch::Matchers::Contains("\"legkit_version\": \"" LEGKIT_VERSION));
+  CHECK_THAT(summary, Catch::Matchers::Contains("--out out"));
   for (const fs::directory_entry& e : fs::directory_iterator(out)) {
     CHECK(e.path().extension() != ".tmp");
   }

@@ -1,5 +1,7 @@
 #include "lie_accuracy.hpp"
 
+#include "output.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -101,22 +103,19 @@ int lieAccuracy(std::ostream& out, const std::string& csvPath, int points) {
   line("  (G_4 - 3 G_5)/2 = (2t - 3 sin t + t cos t)/(2t^5)", &Row::cNaive, &Row::cLie);
 
   if (csvPath.empty()) return 0;
-  std::ofstream csv(csvPath);
-  if (!csv) {
-    out << "legkit lie-accuracy: cannot write " << csvPath << "\n";
-    return 2;
-  }
-  csv << "# lie::AngleSeries Taylor switch points (theta): series below, closed form above\n"
-      << "# switch G3 " << kSwitchG3 << "\n# switch G4 " << kSwitchG4 << "\n# switch G5 "
-      << kSwitchG5 << "\n"
-      << "theta,g3_naive,g3_lie,g4_naive,g4_lie,cq_naive,cq_lie\n"
-      << std::setprecision(17);
-  for (const Row& r : rows) {
-    csv << r.theta << ',' << r.g3Naive << ',' << r.g3Lie << ',' << r.g4Naive << ',' << r.g4Lie
-        << ',' << r.cNaive << ',' << r.cLie << '\n';
-  }
+  writeAtomically(csvPath, [&](std::ostream& csv) {
+    csv << "# lie::AngleSeries Taylor switch points (theta): series below, closed form above\n"
+        << "# switch G3 " << kSwitchG3 << "\n# switch G4 " << kSwitchG4 << "\n# switch G5 "
+        << kSwitchG5 << "\n"
+        << "theta,g3_naive,g3_lie,g4_naive,g4_lie,cq_naive,cq_lie\n"
+        << std::setprecision(17);
+    for (const Row& r : rows) {
+      csv << r.theta << ',' << r.g3Naive << ',' << r.g3Lie << ',' << r.g4Naive << ',' << r.g4Lie
+          << ',' << r.cNaive << ',' << r.cLie << '\n';
+    }
+  });  // throws OutputError (exit 2) when the file cannot be written
   out << "\n  wrote " << rows.size() << " rows to " << csvPath << "\n";
-  return csv ? 0 : 2;
+  return 0;
 }
 
 }  // namespace legkit::tools

@@ -56,11 +56,14 @@ int main(int argc, char** argv) {
     if (sim.parsed()) return sim.run(std::cout);
     if (study.parsed()) return study.run(std::cout);
     if (cassie.parsed()) return cassie.run(std::cout);
-  } catch (const std::invalid_argument& e) {  // e.g. an unknown scenario or estimator name
+  } catch (const UsageError& e) {  // e.g. an unknown leg or a malformed --dropout
     std::cerr << "legkit: " << e.what() << "\n";
     return kExitUsage;
   } catch (const std::exception& e) {  // the input or an output: LogError, InputError, ...
     std::cerr << "legkit: " << e.what() << "\n";
+    return kExitInput;
+  } catch (...) {
+    std::cerr << "legkit: an unexpected error that is not a std::exception\n";
     return kExitInput;
   }
   return 0;

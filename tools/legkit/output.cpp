@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 #include <system_error>
 
 extern char** environ;
@@ -17,24 +18,39 @@ namespace legkit::tools {
 
 namespace fs = std::filesystem;
 
+void writeChecked(const fs::path& path, const std::function<void(std::ostream&)>& write,
+                  const std::string& name) {
+  const std::string shown = name.empty() ? path.string() : name;
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  if (!f) {
+    throw OutputError("cannot write " + shown + ": cannot create " + path.string() + ": " +
+                      std::strerror(errno));
+  }
+  write(f);
+  f.flush();
+  const bool written = static_cast<bool>(f);
+  f.close();
+  if (!written || f.fail()) {
+    throw OutputError("cannot write " + shown + ": the write failed (is the disk full?)");
+  }
+}
+
 void writeAtomically(const fs::path& path, const std::function<void(std::ostream&)>& write) {
   const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw OutputError("cannot write " + path.string() + ": cannot create " + tmp.string());
-    write(f);
-    f.flush();
-    f.close();
-    if (f.fail()) {
-      std::error_code ignored;
-      fs::remove(tmp, ignored);
-      throw OutputError("cannot write " + path.string() +
-                        ": the write failed (is the disk full?)");
-    }
+  try {
+    writeChecked(tmp, write, path.string());
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw;
   }
   std::error_code error;
   fs::rename(tmp, path, error);
-  if (error) throw OutputError("cannot write " + path.string() + ": " + error.message());
+  if (error) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw OutputError("cannot write " + path.string() + ": " + error.message());
+  }
 }
 
 void makeOutputFolder(const fs::path& dir) {
@@ -90,17 +106,22 @@ std::string plot(const std::string& script, const std::vector<std::string>& argu
   argv.insert(argv.end(), arguments.begin(), arguments.end());
   const ProgramResult r = runProgram(argv);
   if (r.status == 0) return "";
-  // The last non-empty line of the script's errors says what failed.
-  std::string last;
-  std::size_t end = r.errors.find_last_not_of("\n ");
-  if (end != std::string::npos) {
-    const std::size_t start = r.errors.rfind('\n', end);
-    last = r.errors.substr(start == std::string::npos ? 0 : start + 1, end + 1 - (start + 1));
-  }
-  if (last.find("No module named 'matplotlib'") != std::string::npos) {
+  if (r.errors.find("No module named 'matplotlib'") != std::string::npos) {
     return "plots not drawn: python3-matplotlib is not installed";
   }
-  return "plots FAILED (" + script + "): " + (last.empty() ? "no message" : last);
+  // The last lines of the script's errors say what failed (a traceback ends with the exception).
+  std::vector<std::string> lines;
+  std::istringstream errors(r.errors);
+  for (std::string line; std::getline(errors, line);) {
+    if (line.find_first_not_of(" \t\r") != std::string::npos) lines.push_back(line);
+  }
+  std::string tail;
+  const std::size_t first = lines.size() > 3 ? lines.size() - 3 : 0;
+  for (std::size_t i = first; i < lines.size(); ++i) tail += "\n  " + lines[i];
+  std::string status = r.status < 0 ? "was killed or could not be started"
+                                    : "exited with status " + std::to_string(r.status);
+  return "plots FAILED: " + script + " " + status +
+         (tail.empty() ? " and said nothing" : ":" + tail);
 }
 
 }  // namespace legkit::tools

@@ -20,6 +20,11 @@ enum ExitCode : int {
   kExitUnhealthy = 3,  // the run finished, but an estimator failed or had to recover
 };
 
+// The command line asks for something that does not exist (an unknown leg, a malformed
+// --dropout): exit code 1, like CLI11's own parse errors.
+class UsageError : public std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
 // The input cannot be used (a time base that is not in seconds, a gap): exit code 2.
 class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -28,6 +33,12 @@ class InputError : public std::runtime_error {
 class OutputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// Writes `path` itself through `write`, then checks the stream after flushing and closing it.
+// Throws OutputError("cannot write <name>: ...") on any failure (name defaults to path): a file
+// that cannot be created, a full disk (/dev/full).
+void writeChecked(const std::filesystem::path& path,
+                  const std::function<void(std::ostream&)>& write, const std::string& name = "");
 
 // Writes path through `write` into "<path>.tmp", checks the stream after flushing and closing it,
 // and only then renames it to path. Throws OutputError naming path on any failure (a full disk, a
@@ -41,13 +52,14 @@ void makeOutputFolder(const std::filesystem::path& dir);
 // Runs argv[0] with the arguments argv[1..] directly (posix_spawn, no shell: nothing in an
 // argument is ever interpreted), its standard output discarded.
 struct ProgramResult {
-  int status = -1;       // exit status, -1 if it could not be started or was killed
-  std::string errors;    // the last 2000 characters of its standard error
+  int status = -1;     // exit status, -1 if it could not be started or was killed
+  std::string errors;  // the last 2000 characters of its standard error
 };
 ProgramResult runProgram(const std::vector<std::string>& argv);
 
 // Draws a command's figures with one of the kit's plot scripts (tools/plots/<script>) and says in
-// one line what came of it: the figures, or what went wrong (the script's last error line).
+// one line what came of it: empty when the figures were drawn, else what went wrong (the last
+// lines of the script's errors; python3 or matplotlib blamed only when really missing).
 std::string plot(const std::string& script, const std::vector<std::string>& arguments);
 
 }  // namespace legkit::tools

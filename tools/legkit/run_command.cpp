@@ -2,13 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -98,7 +99,8 @@ void printTable(std::ostream& out, const std::vector<Row>& rows) {
   }
   // What went wrong, under the table: failures first, then what the estimators rejected.
   for (const Row& r : rows) {
-    if (r.run.failed()) out << "FAILED " << r.run.name << ": " << eval::describe(*r.run.failure) << '\n';
+    if (r.run.failed())
+      out << "FAILED " << r.run.name << ": " << eval::describe(*r.run.failure) << '\n';
   }
   for (const Row& r : rows) {
     const std::string health = eval::describe(r.run.health);
@@ -109,9 +111,8 @@ void printTable(std::ostream& out, const std::vector<Row>& rows) {
 nlohmann::json toJson(const std::vector<Row>& rows) {
   nlohmann::json all = nlohmann::json::array();
   for (const Row& r : rows) {
-    nlohmann::json j = {{"estimator", r.run.name},
-                        {"us_per_step", r.run.us_per_step},
-                        {"healthy", r.run.ok()}};
+    nlohmann::json j = {
+        {"estimator", r.run.name}, {"us_per_step", r.run.us_per_step}, {"healthy", r.run.ok()}};
     if (r.run.failed()) j["failure"] = eval::describe(*r.run.failure);
     nlohmann::json health = nlohmann::json::object();
     for (int f = 0; f < static_cast<int>(Fault::kCount); ++f) {
@@ -161,12 +162,31 @@ void checkTimeBase(const io::Log& log, std::optional<double> max_gap) {
   for (std::size_t k = 1; k < log.rows.size(); ++k) {
     if (dt[k - 1] <= bound) continue;
     std::ostringstream os;
-    os << log.source << ":" << log.lineOfRow(k) << ": a gap of " << dt[k - 1] << " s after t = "
-       << log.rows[k - 1].t << " s, more than " << bound << " s ("
-       << (max_gap ? "--max-gap" : "10 median sample periods; --max-gap sets another bound")
-       << ")";
+    os << log.source << ":" << log.lineOfRow(k) << ": a gap of " << dt[k - 1]
+       << " s after t = " << log.rows[k - 1].t << " s, more than " << bound << " s ("
+       << (max_gap ? "--max-gap" : "10 median sample periods; --max-gap sets another bound") << ")";
     throw InputError(os.str());
   }
+}
+
+// A previous run's outputs: summary.json first (the folder is incomplete from here on), then its
+// estimates and plots, so that none of them can pass for this run's.
+void removeStaleOutputs(const fs::path& dir) {
+  const auto remove = [](const fs::path& p) {
+    std::error_code error;
+    fs::remove(p, error);
+    if (error) throw OutputError("cannot remove the stale " + p.string() + ": " + error.message());
+  };
+  remove(dir / "summary.json");
+  std::vector<fs::path> stale;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    const std::string ext = e.path().extension().string();
+    if ((name.rfind("estimate_", 0) == 0 && ext == ".csv") || ext == ".png") {
+      stale.push_back(e.path());
+    }
+  }
+  for (const fs::path& p : stale) remove(p);
 }
 
 }  // namespace
@@ -177,11 +197,14 @@ RunCommand::RunCommand(CLI::App& app)
   CLI::App& c = *command_;
   std::string names;
   for (const std::string& n : sim::scenarioNames()) names += (names.empty() ? "" : ", ") + n;
-  c.add_option("--scenario", scenario_, "Simulated motion: " + names)->capture_default_str();
+  c.add_option("--scenario", scenario_, "Simulated motion: " + names)
+      ->check(CLI::IsMember(sim::scenarioNames()))
+      ->capture_default_str();
   c.add_option("--duration", duration_, "Simulated time [s]")->capture_default_str();
   c.add_option("--seed", seed_, "Random seed of the simulation")->capture_default_str();
-  c.add_option("--log", log_, "Run on this recorded log (CSV, chapters/57.0) instead")
-      ->check(CLI::ExistingFile);
+  // Not CLI::ExistingFile: a log that cannot be read is an input error (exit 2), whatever the
+  // reason, with the reader's own message.
+  c.add_option("--log", log_, "Run on this recorded log (CSV, chapters/57.0) instead");
   c.add_option("--max-gap", max_gap_,
                "Longest step allowed between samples of --log [s] (default 10 median periods)")
       ->check(CLI::PositiveNumber);
@@ -219,13 +242,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
                            : fs::path("legkit-out") / (scenario_ + "-seed" + std::to_string(seed_));
   // The folder is complete only once summary.json is in it: that goes first, and is written last.
   makeOutputFolder(dir);
-  std::error_code ignored;
-  fs::remove(dir / "summary.json", ignored);
-  for (const fs::directory_entry& e : fs::directory_iterator(dir, ignored)) {
-    const std::string name = e.path().filename().string();
-    const bool estimate = name.rfind("estimate_", 0) == 0 && e.path().extension() == ".csv";
-    if (estimate || e.path().extension() == ".png") fs::remove(e.path(), ignored);
-  }
+  removeStaleOutputs(dir);
   const fs::path log_path = log_.empty() ? dir / "log.csv" : fs::path(log_);
   if (log_.empty()) writeAtomically(log_path, [&](std::ostream& f) { io::writeLog(f, log); });
 
@@ -235,7 +252,8 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   for (const std::string& name : estimatorNames()) {
     const std::unique_ptr<Estimator> e = makeEstimator(name);
     Row r{eval::runOnLog(*e, log, frontend, x0), std::nullopt};
-    if (log.layout.ground_truth && !r.run.failed()) r.metrics = eval::compare(log, r.run.trajectory);
+    if (log.layout.ground_truth && !r.run.failed())
+      r.metrics = eval::compare(log, r.run.trajectory);
     writeAtomically(dir / ("estimate_" + r.run.name + ".csv"),
                     [&](std::ostream& f) { writeEstimates(f, r.run); });
     rows.push_back(std::move(r));
@@ -244,16 +262,16 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   for (const Row& r : rows) all_ok = all_ok && r.run.ok();
   const int status = all_ok ? kExitOk : kExitUnhealthy;
 
-  std::string plots;
-  if (plots_) {
-    plots = plot("run_plots.py", {dir.string(), "--log", log_path.string()});
-    if (plots.empty()) plots = "plots";
-  }
+  std::string plot_failure;  // empty: drawn (or not asked for)
+  if (plots_) plot_failure = plot("run_plots.py", {dir.string(), "--log", log_path.string()});
   nlohmann::json summary = {{"legkit_version", LEGKIT_VERSION},
                             {"command", command_line},
                             {"source", source},
                             {"samples", log.rows.size()},
                             {"exit_status", status},
+                            {"plots", !plots_                ? "not drawn (--no-plots)"
+                                      : plot_failure.empty() ? "drawn"
+                                                             : plot_failure},
                             {"estimators", toJson(rows)}};
   writeAtomically(dir / "summary.json", [&](std::ostream& f) { f << summary.dump(2) << '\n'; });
 
@@ -266,8 +284,9 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
            "linear KF, whose attitude is an input); about 1 for a consistent filter.\n";
     if (!log.layout.ground_truth) out << "\n(the log has no ground truth: errors not computed)\n";
     out << "\nwrote " << dir.string() << "/ (" << (log_.empty() ? "log, " : "") << "estimates"
-        << (plots.empty() ? "" : ", " + plots) << ", summary.json)\n";
+        << (plots_ && plot_failure.empty() ? ", plots" : "") << ", summary.json)\n";
   }
+  if (!plot_failure.empty()) std::cerr << "legkit run: " << plot_failure << '\n';
   return status;
 }
 

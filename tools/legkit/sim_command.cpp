@@ -15,7 +15,7 @@ int legByName(const std::string& name) {
   for (int leg = 0; leg < model::kNumLegs; ++leg) {
     if (name == model::legName(leg)) return leg;
   }
-  throw std::invalid_argument("--slip-foot: unknown leg '" + name + "' (FL, FR, RL or RR)");
+  throw UsageError("--slip-foot: unknown leg '" + name + "' (FL, FR, RL or RR)");
 }
 
 // "START:DURATION" in seconds.
@@ -31,8 +31,8 @@ sim::Dropout parseDropout(const std::string& text) {
     }
     return d;
   } catch (const std::exception&) {
-    throw std::invalid_argument(
-        "--dropout: expected START:DURATION in seconds (e.g. 10:0.05), got '" + text + "'");
+    throw UsageError("--dropout: expected START:DURATION in seconds (e.g. 10:0.05), got '" + text +
+                     "'");
   }
 }
 
@@ -43,7 +43,9 @@ SimCommand::SimCommand(CLI::App& app)
   CLI::App& c = *command_;
   std::string names;
   for (const std::string& n : sim::scenarioNames()) names += (names.empty() ? "" : ", ") + n;
-  c.add_option("--scenario", scenario_, "Motion: " + names)->capture_default_str();
+  c.add_option("--scenario", scenario_, "Motion: " + names)
+      ->check(CLI::IsMember(sim::scenarioNames()))
+      ->capture_default_str();
   c.add_option("--duration", duration_, "Simulated time [s]")->capture_default_str();
   c.add_option("--rate", rate_, "IMU and log rate [Hz]")->capture_default_str();
   c.add_option("--seed", seed_, "Random seed (same seed, same log)")->capture_default_str();

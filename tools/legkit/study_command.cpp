@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <iostream>
 #include <mutex>
 #include <random>
 #include <sstream>
@@ -59,9 +60,14 @@ StudyCommand::StudyCommand(CLI::App& app)
 }
 
 int StudyCommand::run(std::ostream& out) const {
-  if (*consistency_) return consistency(out);
-  if (*convergence_) return convergence(out);
-  return sweep(out);
+  try {
+    if (*consistency_) return consistency(out);
+    if (*convergence_) return convergence(out);
+    return sweep(out);
+  } catch (const eval::RunFailedError& e) {  // the input was fine: a filter failed in a run
+    std::cerr << "legkit study: " << e.what() << "\n";
+    return kExitUnhealthy;
+  }
 }
 
 void StudyCommand::plot(std::ostream& out, const std::string& study, const std::string& dir) const {
