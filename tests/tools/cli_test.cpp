@@ -205,3 +205,20 @@ TEST_CASE("cli: a recorded log without ground truth gets its plots too", "[cli]"
   CHECK(fs::exists(dir.path / "out" / "trajectory-top.png"));
   CHECK(fs::exists(dir.path / "out" / "sigma.png"));
 }
+
+TEST_CASE("cli: a run whose filters had to recover exits 3 and says which", "[cli]") {
+  const Folder dir("recover");
+  legkit::sim::SimOptions options;
+  options.duration = 1.0;
+  options.foot_columns = legkit::io::FootCovariance::kDiagonal;
+  legkit::io::Log log = legkit::sim::simulate(options).log;
+  // A foot claimed exact to 1e-15 m: the filters' covariances cannot keep their digits.
+  for (legkit::io::LogRow& row : log.rows) row.feet[0].cov = 1e-30 * Eigen::Matrix3d::Identity();
+  legkit::io::writeLog((dir.path / "exact-foot.csv").string(), log);
+  const Result r = runLegkit(dir.path, "run --log exact-foot.csv --no-plots --out out");
+  CHECK(r.status == 3);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("state unhealthy (recovered)"));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("health of eskf: "));
+  CHECK_THAT(slurp(dir.path / "out" / "summary.json"),
+             Catch::Matchers::Contains("\"exit_status\": 3"));
+}
