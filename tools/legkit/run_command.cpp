@@ -29,11 +29,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Row {
-  eval::RunResult run;
-  std::optional<eval::Metrics> metrics;  // only when the log has ground truth
-};
-
 // One row per log row: the estimate and, for a filter, its standard deviations in the
 // BaseCovariance convention (sigma_theta*, sigma_v*, sigma_p*) and its NEES. A comment line gives
 // the NEES degrees of freedom and its single-run 95 % bounds for the plots.
@@ -69,48 +64,9 @@ std::string cell(double value, int precision) {
   return os.str();
 }
 
-void printTable(std::ostream& out, const std::vector<Row>& rows) {
-  const char* header[] = {"estimator",        "pos RMSE [m]", "vel RMSE [m/s]", "drift [%]",
-                          "roll/pitch [deg]", "yaw [deg]",    "ANEES",          "us/step"};
-  const int width[] = {20, 13, 15, 10, 17, 10, 7, 8};
-  for (int i = 0; i < 8; ++i)
-    out << std::setw(width[i]) << (i == 0 ? std::left : std::right) << header[i] << ' ';
-  out << '\n';
-  for (const Row& r : rows) {
-    std::vector<std::string> cells = {r.run.name};
-    if (r.run.failed()) {
-      cells.insert(cells.end(), {"FAILED", "-", "-", "-", "-", "-", "-"});
-    } else if (r.metrics) {
-      const eval::Metrics& m = *r.metrics;
-      cells.insert(cells.end(),
-                   {cell(m.position_rmse, 3), cell(m.velocity_rmse, 3), cell(m.drift_percent, 1),
-                    cell(m.tilt_rmse_deg, 2), cell(m.yaw_rmse_deg, 2)});
-    } else {
-      cells.insert(cells.end(), 5, "-");
-    }
-    if (!r.run.failed()) {
-      const double anees = eval::normalisedAnees(r.run);
-      cells.push_back(std::isnan(anees) ? "-" : cell(anees, 2));
-      cells.push_back(cell(r.run.us_per_step, 2));
-    }
-    for (int i = 0; i < 8; ++i)
-      out << std::setw(width[i]) << (i == 0 ? std::left : std::right) << cells[i] << ' ';
-    out << '\n';
-  }
-  // What went wrong, under the table: failures first, then what the estimators rejected.
-  for (const Row& r : rows) {
-    if (r.run.failed())
-      out << "FAILED " << r.run.name << ": " << eval::describe(*r.run.failure) << '\n';
-  }
-  for (const Row& r : rows) {
-    const std::string health = eval::describe(r.run.health);
-    if (!health.empty()) out << "health of " << r.run.name << ": " << health << '\n';
-  }
-}
-
-nlohmann::json toJson(const std::vector<Row>& rows) {
+nlohmann::json toJson(const std::vector<RunRow>& rows) {
   nlohmann::json all = nlohmann::json::array();
-  for (const Row& r : rows) {
+  for (const RunRow& r : rows) {
     nlohmann::json j = {
         {"estimator", r.run.name}, {"us_per_step", r.run.us_per_step}, {"healthy", r.run.ok()}};
     if (r.run.failed()) j["failure"] = eval::describe(*r.run.failure);
@@ -191,6 +147,45 @@ void removeStaleOutputs(const fs::path& dir) {
 
 }  // namespace
 
+void printRunTable(std::ostream& out, const std::vector<RunRow>& rows) {
+  const char* header[] = {"estimator",        "pos RMSE [m]", "vel RMSE [m/s]", "drift [%]",
+                          "roll/pitch [deg]", "yaw [deg]",    "ANEES",          "us/step"};
+  const int width[] = {20, 13, 15, 10, 17, 10, 7, 8};
+  for (int i = 0; i < 8; ++i)
+    out << std::setw(width[i]) << (i == 0 ? std::left : std::right) << header[i] << ' ';
+  out << '\n';
+  for (const RunRow& r : rows) {
+    std::vector<std::string> cells = {r.run.name};
+    if (r.run.failed()) {
+      cells.insert(cells.end(), {"FAILED", "-", "-", "-", "-", "-", "-"});
+    } else if (r.metrics) {
+      const eval::Metrics& m = *r.metrics;
+      cells.insert(cells.end(),
+                   {cell(m.position_rmse, 3), cell(m.velocity_rmse, 3), cell(m.drift_percent, 1),
+                    cell(m.tilt_rmse_deg, 2), cell(m.yaw_rmse_deg, 2)});
+    } else {
+      cells.insert(cells.end(), 5, "-");
+    }
+    if (!r.run.failed()) {
+      const double anees = eval::normalisedAnees(r.run);
+      cells.push_back(std::isnan(anees) ? "-" : cell(anees, 2));
+      cells.push_back(cell(r.run.us_per_step, 2));
+    }
+    for (int i = 0; i < 8; ++i)
+      out << std::setw(width[i]) << (i == 0 ? std::left : std::right) << cells[i] << ' ';
+    out << '\n';
+  }
+  // What went wrong, under the table: failures first, then what the estimators rejected.
+  for (const RunRow& r : rows) {
+    if (r.run.failed())
+      out << "FAILED " << r.run.name << ": " << eval::describe(*r.run.failure) << '\n';
+  }
+  for (const RunRow& r : rows) {
+    const std::string health = eval::describe(r.run.health);
+    if (!health.empty()) out << "health of " << r.run.name << ": " << health << '\n';
+  }
+}
+
 RunCommand::RunCommand(CLI::App& app)
     : command_(app.add_subcommand(
           "run", "The main job: simulate (or read a log), run every estimator, print one table")) {
@@ -248,10 +243,10 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
 
   const LogFrontend frontend(log.layout, model::QuadrupedKinematics(), noise);
   const EstimateSample x0 = eval::initialState(log);
-  std::vector<Row> rows;
+  std::vector<RunRow> rows;
   for (const std::string& name : estimatorNames()) {
     const std::unique_ptr<Estimator> e = makeEstimator(name);
-    Row r{eval::runOnLog(*e, log, frontend, x0), std::nullopt};
+    RunRow r{eval::runOnLog(*e, log, frontend, x0), std::nullopt};
     if (log.layout.ground_truth && !r.run.failed())
       r.metrics = eval::compare(log, r.run.trajectory);
     writeAtomically(dir / ("estimate_" + r.run.name + ".csv"),
@@ -259,7 +254,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
     rows.push_back(std::move(r));
   }
   bool all_ok = true;
-  for (const Row& r : rows) all_ok = all_ok && r.run.ok();
+  for (const RunRow& r : rows) all_ok = all_ok && r.run.ok();
   const int status = all_ok ? kExitOk : kExitUnhealthy;
 
   std::string plot_failure;  // empty: drawn (or not asked for)
@@ -279,7 +274,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
     out << toJson(rows).dump(2) << '\n';
   } else {
     out << "legkit run: " << source << " (" << log.rows.size() << " samples)\n\n";
-    printTable(out, rows);
+    printRunTable(out, rows);
     out << "\nANEES: the mean over the run of NEES / its degrees of freedom (9, or 6 for the "
            "linear KF, whose attitude is an input); about 1 for a consistent filter.\n";
     if (!log.layout.ground_truth) out << "\n(the log has no ground truth: errors not computed)\n";

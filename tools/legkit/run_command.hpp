@@ -7,10 +7,26 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
+
+#include "eval/metrics.hpp"
+#include "eval/runner.hpp"
 
 namespace legkit::tools {
+
+// One estimator's line of the table: its run and, when the log has ground truth and the run
+// finished, its accuracy.
+struct RunRow {
+  eval::RunResult run;
+  std::optional<eval::Metrics> metrics;
+};
+
+// The table of `legkit run`: one line per estimator (FAILED for a run that stopped), then under it
+// each failure with its file:line, time and reason, and each estimator's non-zero health counts.
+void printRunTable(std::ostream& out, const std::vector<RunRow>& rows);
 
 class RunCommand {
  public:
