@@ -1,7 +1,7 @@
 #include "io/log_reader.hpp"
 
-#include <Eigen/Cholesky>
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -173,9 +173,9 @@ class Reader {
     for (std::size_t i = 0; i < names.size(); ++i) {
       const std::string name(names[i]);
       if (name.size() > 40 || name.find_first_of("\\'") != std::string::npos ||
-          std::any_of(name.begin(), name.end(),
-                      [](char c) { return static_cast<unsigned char>(c) < 0x20 ||
-                                          static_cast<unsigned char>(c) >= 0x7f; })) {
+          std::any_of(name.begin(), name.end(), [](char c) {
+            return static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f;
+          })) {
         fail(header_line_, "",
              "unknown column " + shown(name) + " (header field " + std::to_string(i + 1) + ")");
       }
@@ -360,18 +360,49 @@ class Reader {
     }
   }
 
-  // A full foot covariance must be symmetric positive definite (it is symmetric by
-  // construction: the file gives the upper triangle).
+  // A full foot covariance must be symmetric positive definite. It is symmetric by construction
+  // (the file gives the upper triangle) and its diagonal is already known to be positive
+  // (checkValue), so it is positive definite exactly when its correlation matrix is: every
+  // correlation strictly inside (-1, 1) and a positive determinant. Correlations stay in [-1, 1]
+  // whatever the scales; a Cholesky factorisation of the raw matrix does not: 1e-300 next to
+  // 1e200 overflows to inf, inf * 0 makes a NaN pivot, and a NaN passes a "pivot <= 0" test.
   void checkCovariances(int line, const LogRow& row, const LogLayout& layout) const {
     if (layout.foot_columns != FootCovariance::kFull) return;
     for (int k = 0; k < layout.num_feet; ++k) {
-      const Eigen::LLT<Eigen::Matrix3d> llt(row.feet[static_cast<std::size_t>(k)].cov);
-      if (llt.info() != Eigen::Success) {
-        fail(line, "foot" + std::to_string(k) + "_cov_xx",
-             "foot " + std::to_string(k) +
-                 " covariance (foot" + std::to_string(k) +
-                 "_cov_xx.._zz) is not positive definite");
+      checkCovariance(line, k, row.feet[static_cast<std::size_t>(k)].cov);
+    }
+  }
+
+  void checkCovariance(int line, int foot, const Eigen::Matrix3d& cov) const {
+    const std::string prefix = "foot" + std::to_string(foot) + "_cov_";
+    const std::string what =
+        "foot " + std::to_string(foot) + " covariance is not positive definite";
+    const Eigen::Vector3d sigma = cov.diagonal().cwiseSqrt();
+    struct Pair {
+      int i, j;
+      const char* name;
+      double r;
+    };
+    std::array<Pair, 3> pairs = {{{0, 1, "xy", 0.0}, {0, 2, "xz", 0.0}, {1, 2, "yz", 0.0}}};
+    for (Pair& p : pairs) {
+      // Two divisions: sigma_i * sigma_j may underflow; an overflow here means |r| > 1 anyway.
+      p.r = cov(p.i, p.j) / sigma(p.i) / sigma(p.j);
+      if (!(std::abs(p.r) < 1.0)) {
+        const std::string a(1, "xyz"[p.i]), b(1, "xyz"[p.j]);
+        fail(line, prefix + p.name,
+             what + ": |cov_" + p.name + "| must be below sqrt(cov_" + a + a + " cov_" + b + b +
+                 "), the correlation is " + numberText(p.r));
       }
+    }
+    // det of the correlation matrix, as the product of its last two Cholesky pivots' factors.
+    const double rxy = pairs[0].r, rxz = pairs[1].r, ryz = pairs[2].r;
+    const double det =
+        (1.0 - rxy * rxy) * (1.0 - rxz * rxz) - (ryz - rxy * rxz) * (ryz - rxy * rxz);
+    if (!(det > 0.0)) {
+      fail(line, prefix + "xx",
+           what + ": correlations xy " + numberText(rxy) + ", xz " + numberText(rxz) + ", yz " +
+               numberText(ryz) + " give no valid covariance (determinant of the correlation " +
+               "matrix " + numberText(det) + ")");
     }
   }
 

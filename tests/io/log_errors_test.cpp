@@ -231,10 +231,33 @@ TEST_CASE("Full foot covariances must be positive definite", "[57.3][log]") {
   // Positive diagonal, symmetric by construction, but xy too large: eigenvalues 3e-4 and -1e-4.
   checkError(dir, "indefinite.csv",
              header + "\n" + good + "0.001,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,2e-4,0,1e-4,0,1e-4\n",
-             {3, "foot0_cov_xx", "foot 0 covariance (foot0_cov_xx.._zz) is not positive definite"});
+             {3, "foot0_cov_xy",
+              "foot 0 covariance is not positive definite: |cov_xy| must be below sqrt(cov_xx "
+              "cov_yy), the correlation is 2"});
   checkError(dir, "zero_cov.csv",
              header + "\n" + good + "0.001,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,0,0,0,0,1e-4\n",
              {3, "foot0_cov_yy", "expected a variance > 0"});
+  // Every pair is a valid 2x2 covariance, the three together are not (correlations 0.9, 0.9,
+  // -0.9): the message names the determinant, not a pair.
+  checkError(dir, "indefinite_3x3.csv",
+             header + "\n" + good + "0.001,0,0,0,0,0,9.81,0.2,0.1,-0.3,1,0.9,0.9,1,-0.9,1\n",
+             {3, "foot0_cov_xx", "correlations xy 0.9, xz 0.9, yz -0.9 give no valid covariance"});
+}
+
+TEST_CASE("A covariance check that overflow cannot fool", "[57.3][log]") {
+  // cov_xz / sqrt(cov_xx) overflows to inf in a plain Cholesky factorisation, inf * 0 then makes a
+  // NaN, and a NaN pivot passes a "pivot <= 0" test: this matrix, far from positive definite, was
+  // once accepted.
+  const TempDir dir;
+  const std::string header =
+      "t,gyro_x,gyro_y,gyro_z,acc_x,acc_y,acc_z,foot0_px,foot0_py,foot0_pz,foot0_cov_xx,"
+      "foot0_cov_xy,foot0_cov_xz,foot0_cov_yy,foot0_cov_yz,foot0_cov_zz";
+  checkError(
+      dir, "overflow.csv", header + "\n0,0,0,0,0,0,9.81,0,0,0,1e-300,0,1e200,1,0,1\n",
+      {2, "foot0_cov_xz", "foot 0 covariance is not positive definite: |cov_xz| must be below"});
+  // Extreme but valid scales still pass.
+  CHECK_NOTHROW(io::readLog(dir.write(
+      "scales.csv", header + "\n0,0,0,0,0,0,9.81,0,0,0,1e-300,1e-160,0,1e-10,0,1e300\n")));
 }
 
 TEST_CASE("One leg description per log: joints or feet, not both", "[57.3][log]") {
@@ -251,14 +274,17 @@ TEST_CASE("One leg description per log: joints or feet, not both", "[57.3][log]"
 }
 
 TEST_CASE("Line ends, byte-order mark, and what the reader says of bad bytes", "[57.3][log]") {
-  const std::string header = "t,gyro_x,gyro_y,gyro_z,acc_x,acc_y,acc_z,foot0_px,foot0_py,"
-                             "foot0_pz,foot0_var_x,foot0_var_y,foot0_var_z";
+  const std::string header =
+      "t,gyro_x,gyro_y,gyro_z,acc_x,acc_y,acc_z,foot0_px,foot0_py,"
+      "foot0_pz,foot0_var_x,foot0_var_y,foot0_var_z";
   const std::string r0 = "0,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,1e-4,1e-4";
   const std::string r1 = "0.001,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,1e-4,1e-4";
   for (const std::string eol : {"\n", "\r\n", "\r"}) {
     for (const std::string bom : {"", "\xEF\xBB\xBF"}) {
-      INFO("eol " << (eol == "\n" ? "LF" : eol == "\r" ? "CR" : "CRLF") << ", bom "
-                  << !bom.empty());
+      INFO("eol " << (eol == "\n"   ? "LF"
+                      : eol == "\r" ? "CR"
+                                    : "CRLF")
+                  << ", bom " << !bom.empty());
       std::istringstream in(bom + "# a comment" + eol + header + eol + r0 + eol + r1 + eol);
       const io::Log log = io::readLog(in, "eol.csv");
       CHECK(log.rows.size() == 2);
@@ -270,8 +296,9 @@ TEST_CASE("Line ends, byte-order mark, and what the reader says of bad bytes", "
   }
   // Underflow is not overflow; a bad field is escaped and cut.
   const auto errorOf = [&](const std::string& field) {
-    std::istringstream in(header + "\n" + r0 + "\n0.001,0," + field + ",0,0,0,9.81,0.2,0.1,-0.3,"
-                                                                    "1e-4,1e-4,1e-4\n");
+    std::istringstream in(header + "\n" + r0 + "\n0.001,0," + field +
+                          ",0,0,0,9.81,0.2,0.1,-0.3,"
+                          "1e-4,1e-4,1e-4\n");
     try {
       io::readLog(in, "bad.csv");
     } catch (const io::LogError& e) {
