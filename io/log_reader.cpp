@@ -134,6 +134,10 @@ class Reader {
     }
     if (!have_header) fail(lines.number(), "", "no header line (the file is empty)");
     header_line_ = lines.number();
+    if (trim(line).empty()) {
+      fail(header_line_, "",
+           "blank line where the header was expected (comment lines start with '#')");
+    }
     parseHeader(line, log.layout);
 
     std::vector<std::string_view> fields;

@@ -217,6 +217,8 @@ TEST_CASE("Foot columns: variances and incomplete feet", "[57.3][log]") {
              {1, "foot0_var_x", "foot position columns need their variances"});
   checkError(dir, "incomplete_foot.csv", header + ",foot1_px\n" + row + ",0\n",
              {1, "foot1_py", "each foot needs _px _py _pz"});
+  checkError(dir, "blank_before_header.csv", "# robot\n\n" + header + "\n" + row + "\n",
+             {2, "", "blank line where the header was expected (comment lines start with '#')"});
   checkError(dir, "no_legs.csv", "t,gyro_x,gyro_y,gyro_z,acc_x,acc_y,acc_z\n0,0,0,0,0,0,0\n",
              {1, "q_FL_0", "a log needs joint columns"});
 }
