@@ -111,8 +111,8 @@ class Reader {
       fail(lines.number(), "",
            "the log is too large for this machine's memory (" +
                (size > 0 ? std::to_string(size) + " bytes, " : std::string()) +
-               std::to_string(rows_read_) + " rows read; a row takes " +
-               std::to_string(sizeof(LogRow)) + " bytes in memory)");
+               std::to_string(rows_read_) + (rows_read_ == 1 ? " row" : " rows") +
+               " read; a row takes " + std::to_string(sizeof(LogRow)) + " bytes in memory)");
     }
   }
 

@@ -1,5 +1,7 @@
 // Every kind of bad file makes the reader throw a LogError that names the file, the line, the
 // column and what was expected. The broken files are written into a temporary folder.
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <catch2/catch.hpp>
 #include <filesystem>
@@ -338,4 +340,65 @@ TEST_CASE("A missing file and an unwritable log are errors too", "[57.3][log]") 
   log.rows[1].gyro.x() = std::nan("");
   CHECK_THROWS_WITH(io::writeLog(out, log, "mem"),
                     Catch::Matchers::Contains("mem:3: column 'gyro_x': cannot write a NaN"));
+}
+
+// AddressSanitizer reserves terabytes of address space and handles failed allocations its own
+// way: the memory test below needs a plain allocator.
+#if defined(__SANITIZE_ADDRESS__)
+#define LEGKIT_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define LEGKIT_TEST_ASAN 1
+#endif
+#endif
+
+TEST_CASE("A log too large for memory is a LogError, not a bare bad_alloc", "[57.3][log]") {
+#ifdef LEGKIT_TEST_ASAN
+  SUCCEED("skipped under AddressSanitizer");
+#else
+  // A 4 GB file (sparse: two rows, then zeros) of 50-byte rows asks for about 86 million rows,
+  // 90 GB: more than the 1 GB of address space the child process below may use.
+  const TempDir dir;
+  const std::string path =
+      dir.write("huge.csv",
+                "t,gyro_x,gyro_y,gyro_z,acc_x,acc_y,acc_z,foot0_px,foot0_py,foot0_pz,foot0_var_x,"
+                "foot0_var_y,foot0_var_z\n0,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,1e-4,1e-4\n"
+                "0.001,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,1e-4,1e-4\n");
+  fs::resize_file(path, 4'000'000'000);
+  int pipe_ends[2];
+  REQUIRE(pipe(pipe_ends) == 0);
+  const pid_t child = fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {  // no Catch2 macros in here: report through the pipe and the exit code
+    close(pipe_ends[0]);
+    const rlimit limit{1ul << 30, 1ul << 30};
+    setrlimit(RLIMIT_AS, &limit);
+    std::string message = "no error";
+    int code = 1;
+    try {
+      io::readLog(path);
+    } catch (const io::LogError& e) {
+      message = e.what();
+      code = 0;
+    } catch (const std::exception& e) {
+      message = std::string("not a LogError: ") + e.what();
+    }
+    const ssize_t written = write(pipe_ends[1], message.data(), message.size());
+    _exit(written < 0 ? 2 : code);
+  }
+  close(pipe_ends[1]);
+  std::string message;
+  char buffer[512];
+  for (ssize_t n; (n = read(pipe_ends[0], buffer, sizeof buffer)) > 0;) message.append(buffer, n);
+  close(pipe_ends[0]);
+  int status = 0;
+  waitpid(child, &status, 0);
+  INFO("child said: " << message);
+  CHECK(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 0);
+  CHECK_THAT(message,
+             Catch::Matchers::StartsWith(path + ":3: the log is too large for this "
+                                                "machine's memory (4000000000 bytes, 1 row "
+                                                "read;"));
+#endif
 }
