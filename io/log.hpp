@@ -5,13 +5,13 @@
 // columns, their units and the loader's errors. The CSV side lives in io/log_reader.hpp and
 // io/log_writer.hpp; this header only holds the records.
 //
-// Two ways to describe the legs, both allowed in one log:
+// Two ways to describe the legs; a log carries exactly one of them (the reader refuses both: the
+// estimators would have to pick one and silently ignore the other):
 //  - quadruped joints (the built-in Go2-class model): 12 joint angles and velocities, legs FL, FR,
 //    RL, RR, joints per leg: hip abduction, hip flexion, knee. Foot ids 0..3 are FL..RR.
 //  - robot-agnostic feet: for up to kMaxFeet feet, the foot position in the body (IMU) frame and
-//  its
-//    covariance, already computed by the robot's own kinematics. An estimator turns these directly
-//    into legkit::ContactMeasurement (model/contact_measurement.hpp).
+//    its covariance, already computed by the robot's own kinematics. An estimator turns these
+//    directly into legkit::ContactMeasurement (model/contact_measurement.hpp).
 #pragma once
 
 #include <Eigen/Core>
@@ -92,7 +92,10 @@ struct Log {
   std::string source;
 
   // The 1-based line of rows[k] in its file: the comment lines, the header, then one line per
-  // row (the reader allows nothing else in between).
+  // row. Exact for every file the reader accepts, as it allows nothing else before the last row
+  // (no blank or comment line between rows; a byte-order mark is not a line, and CR, CR LF and LF
+  // each end one line), and for a log made in memory it is the line the writer puts the row on.
+  // Nothing is stored per row.
   std::size_t lineOfRow(std::size_t k) const { return comments.size() + 2 + k; }
 };
 

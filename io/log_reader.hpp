@@ -2,10 +2,17 @@
 //
 // The reader is strict: any bad row makes it throw a LogError naming the file, the line, the
 // column and what was expected; it never hands back part of a file as if it were the whole.
-// Checked: the header (unknown, duplicate or missing columns, incomplete groups), the number of
-// fields per row, numbers (non-numeric, empty, NaN, inf), contact flags (0 or 1), variances (not
-// negative), ground-truth quaternions (unit norm), timestamps (strictly increasing) and, when
-// asked, gaps between consecutive samples.
+// Checked: the header (unknown, duplicate or missing columns, incomplete groups, joint and foot
+// columns together), the number of fields per row, numbers (non-numeric, empty, NaN, overflow,
+// underflow), contact flags (0 or 1), variances (> 0: a zero variance claims a perfect
+// measurement), full foot covariances (positive definite), ground-truth quaternions (unit norm),
+// timestamps (strictly increasing) and, when asked, gaps between consecutive samples. Fields
+// quoted in a message are escaped and cut to 40 characters.
+//
+// Taken: LF, CR LF or lone CR line ends, a UTF-8 byte-order mark, spaces around fields. Whatever
+// is accepted survives writeLog and a second read unchanged (fuzz/log_reader_fuzz.cpp checks it).
+// The stream is read line by line and the rows are reserved from the file size, so a log costs
+// about sizeof(LogRow) per row; running out of memory is a LogError saying so.
 #pragma once
 
 #include <istream>
