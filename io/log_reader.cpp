@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <new>
 #include <string_view>
 #include <vector>
@@ -72,11 +73,15 @@ std::string shown(std::string_view text) {
 // from every platform read alike; a UTF-8 byte-order mark before the first line is skipped.
 class LineSource {
  public:
-  explicit LineSource(std::istream& in) : buffer_(*in.rdbuf()) {}
+  LineSource(std::istream& in, const std::string& source) : buffer_(*in.rdbuf()), source_(source) {}
   bool next(std::string_view& line) {
     line_.clear();
     int c = buffer_.sbumpc();
     if (c == std::char_traits<char>::eof()) return false;
+    // Line numbers are ints (LogError::line); a file of 2^31 line ends must not overflow them.
+    if (number_ == std::numeric_limits<int>::max()) {
+      throw LogError(source_, number_, "", "more lines than a line number can count");
+    }
     while (c != std::char_traits<char>::eof() && c != '\n' && c != '\r') {
       line_.push_back(static_cast<char>(c));
       c = buffer_.sbumpc();
@@ -92,6 +97,7 @@ class LineSource {
 
  private:
   std::streambuf& buffer_;
+  const std::string& source_;
   std::string line_;
   int number_ = 0;
   std::size_t bytes_ = 0;
@@ -104,7 +110,7 @@ class Reader {
 
   // size: the stream's size in bytes when known (0 if not), to reserve the rows at once.
   Log read(std::istream& in, std::size_t size) {
-    LineSource lines(in);
+    LineSource lines(in, source_);
     try {
       return read(lines, size);
     } catch (const std::bad_alloc&) {
