@@ -14,6 +14,13 @@ corpus=$(mktemp -d)
 trap 'rm -rf "$corpus"' EXIT
 cp fuzz/corpus/* "$corpus"/
 mkdir -p "$build/artifacts"
-# -max_len: long enough for a header and a few rows of every layout.
+# -max_len: long enough for a header and a few rows of every layout. The whole output goes to
+# build-fuzz/fuzz.log; shown are its end without the recommended dictionary (which would push the
+# coverage line and a crash report out of view), and the size of the corpus it grew.
+status=0
 "$build/fuzz/log_reader_fuzz" "$corpus" -max_total_time="$seconds" -max_len=8192 \
-  -artifact_prefix="$build/artifacts/" -print_final_stats=1 2>&1 | tail -n 25
+  -artifact_prefix="$build/artifacts/" -print_final_stats=1 >"$build/fuzz.log" 2>&1 || status=$?
+grep -v '^"' "$build/fuzz.log" | tail -n 40
+echo "corpus: $(find "$corpus" -type f | wc -l) files, $(du -sk "$corpus" | cut -f1) kB"
+[ "$status" -eq 0 ] || echo "FAILED: the fuzzer exited with $status (inputs in $build/artifacts/)"
+exit "$status"
