@@ -1,8 +1,9 @@
 // libFuzzer target for the log reader (tools/fuzz-log-reader.sh builds and runs it).
 //
 // Whatever the bytes, readLog either throws LogError or returns a Log; nothing else may happen
-// (no other exception, no crash, no sanitizer report). And every log it accepts must survive the
-// round trip: written back and read again, it is the same log, field for field.
+// (no other exception, no crash, no sanitizer report), and a LogError's message is short and
+// printable. And every log it accepts must survive the round trip: written back and read again,
+// it is the same log, field for field.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -33,8 +34,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Log log;
   try {
     log = readLog(in, "fuzz.csv");
-  } catch (const LogError&) {
-    return 0;  // refused, with a message: fine
+  } catch (const LogError& e) {
+    // Refused: fine, if the message is one a terminal can show. Fields are quoted escaped and
+    // cut, so whatever the input, the message is short and printable.
+    const std::string message = e.what();
+    if (message.size() > 600) std::abort();
+    for (const char c : message) {
+      if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7e)
+        std::abort();
+    }
+    return 0;
   }
   std::stringstream file;
   writeLog(file, log, "fuzz-out.csv");  // must not throw for an accepted log
