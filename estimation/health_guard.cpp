@@ -72,8 +72,12 @@ void checkStepInput(const StepInput& in, int max_feet, const char* who) {
     // the minors overflow).
     const bool minors =
         C(0, 0) > 0.0 && C(0, 0) * C(1, 1) - C(0, 1) * C(1, 0) > 0.0 && C.determinant() > 0.0;
-    if (!minors && Eigen::LLT<Eigen::Matrix3d>(C).info() != Eigen::Success) {
-      footFail("covariance is not positive definite");
+    if (!minors) {
+      // An overflowing pivot can leave a NaN in the factor while info() says Success.
+      const Eigen::LLT<Eigen::Matrix3d> llt(C);
+      if (llt.info() != Eigen::Success || !llt.matrixLLT().allFinite()) {
+        footFail("covariance is not positive definite");
+      }
     }
   }
 }
