@@ -9,6 +9,7 @@
 
 #include "io/log_reader.hpp"
 #include "sim/simulator.hpp"
+#include "spawn.hpp"
 
 using namespace legkit;
 
@@ -16,11 +17,9 @@ TEST_CASE("legkit sim writes a log that reads back exactly", "[57.3][sim][log]")
   const std::string path = (std::filesystem::temp_directory_path() /
                             ("legkit_sim_cli_" + std::to_string(getpid()) + ".csv"))
                                .string();
-  const std::string command =
-      std::string(LEGKIT_EXE) +
-      " sim --scenario trot --duration 2 --seed 3 --dropout 1.5:0.01 --out " + path +
-      " > /dev/null";
-  REQUIRE(std::system(command.c_str()) == 0);
+  REQUIRE(legkit::test::spawnAndWait({LEGKIT_EXE, "sim", "--scenario", "trot", "--duration", "2",
+                                      "--seed", "3", "--dropout", "1.5:0.01", "--out", path},
+                                     ".", "/dev/null") == 0);
   const io::Log log = io::readLog(path);
   std::remove(path.c_str());
 

@@ -14,6 +14,7 @@
 #include "io/log_reader.hpp"
 #include "io/log_writer.hpp"
 #include "sim/simulator.hpp"
+#include "spawn.hpp"
 
 namespace fs = std::filesystem;
 
@@ -35,14 +36,12 @@ struct Result {
   std::string output;  // standard output and error together
 };
 
-// Runs legkit with `arguments` (already quoted for the shell) inside `dir`.
-Result runLegkit(const fs::path& dir, const std::string& arguments) {
+// Runs legkit with `arguments` inside `dir` (no shell: each argument reaches it as it is).
+Result runLegkit(const fs::path& dir, std::vector<std::string> arguments) {
   const fs::path output = dir / "cli-output.txt";
-  const std::string command = "cd '" + dir.string() + "' && " + LEGKIT_EXE + " " + arguments +
-                              " > '" + output.string() + "' 2>&1";
-  const int raw = std::system(command.c_str());
+  arguments.insert(arguments.begin(), LEGKIT_EXE);
   Result r;
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  r.status = legkit::test::spawnAndWait(arguments, dir.string(), output.string());
   std::ifstream f(output);
   std::stringstream text;
   text << f.rdbuf();
@@ -61,19 +60,19 @@ std::string slurp(const fs::path& path) {
 
 TEST_CASE("cli: --version, --help and a wrong command line", "[cli]") {
   const Folder dir("usage");
-  Result r = runLegkit(dir.path, "--version");
+  Result r = runLegkit(dir.path, {"--version"});
   CHECK(r.status == 0);
   CHECK_THAT(r.output, Catch::Matchers::Contains("legkit " LEGKIT_VERSION));
-  r = runLegkit(dir.path, "--help");
+  r = runLegkit(dir.path, {"--help"});
   CHECK(r.status == 0);
   CHECK_THAT(r.output, Catch::Matchers::Contains("Exit codes"));
-  CHECK(runLegkit(dir.path, "run --no-such-option").status == 1);
-  CHECK(runLegkit(dir.path, "run --scenario no-such-scenario").status == 1);
-  CHECK(runLegkit(dir.path, "sim --slip-foot XX --out log.csv").status == 1);
-  CHECK(runLegkit(dir.path, "sim --dropout 1 --out log.csv").status == 1);
+  CHECK(runLegkit(dir.path, {"run", "--no-such-option"}).status == 1);
+  CHECK(runLegkit(dir.path, {"run", "--scenario", "no-such-scenario"}).status == 1);
+  CHECK(runLegkit(dir.path, {"sim", "--slip-foot", "XX", "--out", "log.csv"}).status == 1);
+  CHECK(runLegkit(dir.path, {"sim", "--dropout", "1", "--out", "log.csv"}).status == 1);
   CHECK_FALSE(fs::exists(dir.path / "log.csv"));
   // A log that cannot be read is an input error, with the reader's message.
-  r = runLegkit(dir.path, "run --log no-such-file.csv");
+  r = runLegkit(dir.path, {"run", "--log", "no-such-file.csv"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Catch::Matchers::Contains("no-such-file.csv"));
 }
@@ -98,7 +97,7 @@ TEST_CASE("cli: a bad log is refused with its file and line, unchanged", "[cli]"
   }
   bad.close();
   REQUIRE(spoiled > 0);
-  const Result r = runLegkit(dir.path, "run --log bad.csv --out out --no-plots");
+  const Result r = runLegkit(dir.path, {"run", "--log", "bad.csv", "--out", "out", "--no-plots"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output,
              Catch::Matchers::StartsWith("legkit: bad.csv:" + std::to_string(spoiled) + ": "));
@@ -115,20 +114,21 @@ TEST_CASE("cli: the time base of a recorded log is checked", "[cli]") {
   for (legkit::io::LogRow& row : log.rows) row.t *= 1000.0;  // milliseconds
   legkit::io::writeLog((dir.path / "ms.csv").string(), log);
 
-  Result r = runLegkit(dir.path, "run --log ms.csv --no-plots --out out");
+  Result r = runLegkit(dir.path, {"run", "--log", "ms.csv", "--no-plots", "--out", "out"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Catch::Matchers::Contains("ms.csv"));
   CHECK_THAT(r.output, Catch::Matchers::Contains("in seconds?"));
   CHECK_FALSE(fs::exists(dir.path / "out"));
 
-  r = runLegkit(dir.path, "run --log gap.csv --no-plots --out out");
+  r = runLegkit(dir.path, {"run", "--log", "gap.csv", "--no-plots", "--out", "out"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Catch::Matchers::Contains("gap.csv:"));
   CHECK_THAT(r.output, Catch::Matchers::Contains("a gap of 0.50"));
   CHECK_FALSE(fs::exists(dir.path / "out" / "summary.json"));
 
   // Allowed with --max-gap: the estimators reject the gap themselves, and the table says so.
-  r = runLegkit(dir.path, "run --log gap.csv --no-plots --out out --max-gap 1");
+  r = runLegkit(dir.path,
+                {"run", "--log", "gap.csv", "--no-plots", "--out", "out", "--max-gap", "1"});
   CHECK(r.status == 0);
   CHECK_THAT(r.output, Catch::Matchers::Contains("health of eskf: 1 time gap"));
   CHECK(fs::exists(dir.path / "out" / "summary.json"));
@@ -137,7 +137,8 @@ TEST_CASE("cli: the time base of a recorded log is checked", "[cli]") {
 TEST_CASE("cli: a study makes its output folder before its runs", "[cli]") {
   const Folder dir("study");
   std::ofstream(dir.path / "a-file") << "x\n";
-  const Result r = runLegkit(dir.path, "study consistency --runs 1 --duration 0.5 --out a-file");
+  const Result r = runLegkit(
+      dir.path, {"study", "consistency", "--runs", "1", "--duration", "0.5", "--out", "a-file"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Catch::Matchers::Contains("a-file"));
   CHECK_THAT(r.output, !Catch::Matchers::Contains("ANEES"));
@@ -149,7 +150,7 @@ TEST_CASE("cli: a finished run ends with summary.json, and stale outputs are gon
   fs::create_directories(out);
   std::ofstream(out / "estimate_old-filter.csv") << "stale\n";
   std::ofstream(out / "summary.json") << "stale\n";
-  const Result r = runLegkit(dir.path, "run --duration 2 --no-plots --out out");
+  const Result r = runLegkit(dir.path, {"run", "--duration", "2", "--no-plots", "--out", "out"});
   REQUIRE(r.status == 0);
   CHECK_FALSE(fs::exists(out / "estimate_old-filter.csv"));
   const std::string summary = slurp(out / "summary.json");
@@ -168,26 +169,27 @@ TEST_CASE("cli: a write that fails is an error, and nothing claims it was writte
   fs::create_directories(out);
   // The estimates of one filter go to a full disk.
   fs::create_symlink("/dev/full", out / "estimate_eskf.csv.tmp");
-  Result r = runLegkit(dir.path, "run --duration 2 --no-plots --out out");
+  Result r = runLegkit(dir.path, {"run", "--duration", "2", "--no-plots", "--out", "out"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Catch::Matchers::Contains("cannot write out/estimate_eskf.csv"));
   CHECK_THAT(r.output, !Catch::Matchers::Contains("wrote"));
   CHECK_FALSE(fs::exists(out / "summary.json"));
   // An output folder that is a file.
   std::ofstream(dir.path / "a-file") << "x\n";
-  r = runLegkit(dir.path, "run --duration 2 --no-plots --out a-file");
+  r = runLegkit(dir.path, {"run", "--duration", "2", "--no-plots", "--out", "a-file"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Catch::Matchers::Contains("a-file"));
   // legkit sim to a full disk.
   fs::create_symlink("/dev/full", dir.path / "log.csv.tmp");
-  r = runLegkit(dir.path, "sim --duration 1 --out log.csv");
+  r = runLegkit(dir.path, {"sim", "--duration", "1", "--out", "log.csv"});
   CHECK(r.status == 2);
   CHECK_FALSE(fs::exists(dir.path / "log.csv"));
 }
 
 TEST_CASE("cli: the plot script gets its arguments without a shell", "[cli]") {
   const Folder dir("inject");
-  const Result r = runLegkit(dir.path, "run --duration 2 --out \"x'; touch INJECTED; echo '\"");
+  const Result r =
+      runLegkit(dir.path, {"run", "--duration", "2", "--out", "x'; touch INJECTED; echo '"});
   CHECK(r.status == 0);
   CHECK_FALSE(fs::exists(dir.path / "INJECTED"));
   CHECK(fs::exists(dir.path / "x'; touch INJECTED; echo '" / "trajectory-top.png"));
@@ -199,7 +201,7 @@ TEST_CASE("cli: a recorded log without ground truth gets its plots too", "[cli]"
   options.duration = 2.0;
   options.ground_truth = false;
   legkit::io::writeLog((dir.path / "robot.csv").string(), legkit::sim::simulate(options).log);
-  const Result r = runLegkit(dir.path, "run --log robot.csv --out out");
+  const Result r = runLegkit(dir.path, {"run", "--log", "robot.csv", "--out", "out"});
   CHECK(r.status == 0);
   CHECK_THAT(r.output, Catch::Matchers::Contains("plots"));
   CHECK(fs::exists(dir.path / "out" / "trajectory-top.png"));
@@ -215,7 +217,8 @@ TEST_CASE("cli: a run whose filters had to recover exits 3 and says which", "[cl
   // A foot claimed exact to 1e-15 m: the filters' covariances cannot keep their digits.
   for (legkit::io::LogRow& row : log.rows) row.feet[0].cov = 1e-30 * Eigen::Matrix3d::Identity();
   legkit::io::writeLog((dir.path / "exact-foot.csv").string(), log);
-  const Result r = runLegkit(dir.path, "run --log exact-foot.csv --no-plots --out out");
+  const Result r =
+      runLegkit(dir.path, {"run", "--log", "exact-foot.csv", "--no-plots", "--out", "out"});
   CHECK(r.status == 3);
   CHECK_THAT(r.output, Catch::Matchers::Contains("state unhealthy (recovered)"));
   CHECK_THAT(r.output, Catch::Matchers::Contains("health of eskf: "));
