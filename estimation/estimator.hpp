@@ -7,6 +7,7 @@
 #include <string>
 
 #include "estimation/estimate.hpp"
+#include "estimation/foot_slots.hpp"
 #include "estimation/health.hpp"
 #include "estimation/health_guard.hpp"
 #include "estimation/step_input.hpp"
@@ -47,8 +48,8 @@ struct BaseCovariance {
 //  - After every step the estimate is finite and physical and, for a filter, P is finite with a
 //    positive diagonal; every HealthGuard::kFullCheckInterval steps P is also checked symmetric
 //    and positive definite (LDLT), and the state that passes becomes the last good one. If a check
-//    fails, the filter recovers (kStateUnhealthy): it returns to the last state that passed the full
-//    check, with the prior covariance. estimate() is never NaN.
+//    fails, the filter recovers (kStateUnhealthy): it returns to the last state that passed the
+//    full check, with the prior covariance. estimate() is never NaN.
 class Estimator {
  public:
   virtual ~Estimator() = default;
@@ -64,6 +65,34 @@ class Estimator {
   const Health& health() const { return health_; }
 
  protected:
+  // The copies admit() makes, only when a foot is dropped or moved to another slot.
+  struct InputCopies {
+    std::optional<StepInput> admitted, slotted;
+  };
+  // One sample as the contract admits it: the input step() works on, and whether its IMU reading
+  // was admitted (if not, the previous admitted one stays held).
+  struct Admitted {
+    const StepInput& in;
+    bool imu;
+  };
+
+  // The input rules of the contract above, the start of every step(): throws on invalid input
+  // before anything changes, drops out-of-range feet, checks the IMU sample, and applies the gap
+  // rule (restart(), after which the estimator has no previous sample).
+  Admitted admit(const StepInput& raw, bool has_previous, const InputLimits& limits,
+                 const char* who, InputCopies& copies) {
+    checkStepInput(raw, leg_odometry::kMaxContacts, who);
+    return admitChecked(admitContacts(raw, limits, health_, copies.admitted), has_previous, limits);
+  }
+  // The same for a filter with N foot states: stance feet are also given their slots.
+  template <int N>
+  Admitted admit(const StepInput& raw, bool has_previous, const InputLimits& limits,
+                 const char* who, InputCopies& copies, FootSlots<N>& slots) {
+    checkStepInput(raw, leg_odometry::kMaxContacts, who);
+    const StepInput& in = admitContacts(raw, limits, health_, copies.admitted);
+    return admitChecked(slots.map(in, copies.slotted, health_), has_previous, limits);
+  }
+
   // For reset(): a new health record, and x0 as the last good state.
   void startHealth(const EstimateSample& x0) {
     health_ = Health{};
@@ -85,6 +114,16 @@ class Estimator {
 
   Health health_;
   HealthGuard guard_;
+
+ private:
+  Admitted admitChecked(const StepInput& in, bool has_previous, const InputLimits& limits) {
+    const bool imu = admitImu(in, limits, health_);
+    if (has_previous && in.dt > limits.max_dt) {
+      health_.record(Fault::kTimeGap, in.t);
+      restart(estimate());  // nothing integrated across the gap; from here a first sample
+    }
+    return {in, imu};
+  }
 };
 
 }  // namespace legkit

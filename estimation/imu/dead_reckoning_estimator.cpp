@@ -11,16 +11,11 @@ void DeadReckoningEstimator::reset(const EstimateSample& x0) {
   startHealth(x0);
 }
 
-void DeadReckoningEstimator::step(const StepInput& in) {
-  checkStepInput(in, leg_odometry::kMaxContacts, "DeadReckoningEstimator");
+void DeadReckoningEstimator::step(const StepInput& raw) {
   // Contacts are not used here, but admitted like everywhere, so that health() means the same.
-  std::optional<StepInput> unused;
-  admitContacts(in, limits_, health_, unused);
-  const bool imu_admitted = admitImu(in, limits_, health_);
-  if (has_previous_ && in.dt > limits_.max_dt) {
-    health_.record(Fault::kTimeGap, in.t);
-    restart(estimate());
-  }
+  InputCopies copies;
+  const auto [in, imu_admitted] =
+      admit(raw, has_previous_, limits_, "DeadReckoningEstimator", copies);
   if (has_previous_ && in.dt > 0.0) x_ = deadReckoningStep(x_, previous_, model::ImuBias{}, in.dt);
   if (imu_admitted) {
     previous_ = in.imu;

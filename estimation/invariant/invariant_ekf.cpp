@@ -159,15 +159,9 @@ void InvariantEkf::reset(const EstimateSample& x0) {
 }
 
 void InvariantEkf::step(const StepInput& raw) {
-  checkStepInput(raw, leg_odometry::kMaxContacts, "InvariantEkf");  // throws before any change
-  std::optional<StepInput> admitted, slotted;
-  const StepInput& in =
-      slots_.map(admitContacts(raw, params_.limits, health_, admitted), slotted, health_);
-  const bool imu_admitted = admitImu(in, params_.limits, health_);
-  if (has_previous_ && in.dt > params_.limits.max_dt) {
-    health_.record(Fault::kTimeGap, in.t);
-    restart(estimate());  // nothing integrated across the gap; from here a first sample
-  }
+  InputCopies copies;
+  const auto [in, imu_admitted] =
+      admit(raw, has_previous_, params_.limits, "InvariantEkf", copies, slots_);
   if (has_previous_ && in.dt > 0.0) propagate(in.dt);
   correct(in);
   if (imu_admitted) {

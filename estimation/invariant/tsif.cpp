@@ -209,15 +209,8 @@ void Tsif::reset(const EstimateSample& x0) {
 }
 
 void Tsif::step(const StepInput& raw) {
-  checkStepInput(raw, leg_odometry::kMaxContacts, "Tsif");  // throws before anything changes
-  std::optional<StepInput> admitted, slotted;
-  const StepInput& in =
-      slots_.map(admitContacts(raw, params_.limits, health_, admitted), slotted, health_);
-  const bool imu_admitted = admitImu(in, params_.limits, health_);
-  if (has_previous_ && in.dt > params_.limits.max_dt) {
-    health_.record(Fault::kTimeGap, in.t);
-    restart(estimate());  // nothing integrated across the gap; from here a first sample
-  }
+  InputCopies copies;
+  const auto [in, imu_admitted] = admit(raw, has_previous_, params_.limits, "Tsif", copies, slots_);
   std::array<const ContactMeasurement*, kFeet> contact{};  // the stance feet at k+1
   for (const ContactMeasurement& c : in.stance()) contact[c.foot] = &c;
 
@@ -274,8 +267,7 @@ void Tsif::step(const StepInput& raw) {
     if (!contact[i]) continue;
     // The variance floor keeps the normal equations factorisable for any admitted covariance
     // (1e-30 m^2 would weigh 1e30 against a prior of ~1e4).
-    const Eigen::Matrix3d cov =
-        contact[i]->cov + kMinFootVariance * Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d cov = contact[i]->cov + kMinFootVariance * Eigen::Matrix3d::Identity();
     W_kin[i] = cov.llt().solve(Eigen::Matrix3d::Identity());
   }
 

@@ -14,14 +14,9 @@ void LegOdometryEstimator::reset(const EstimateSample& x0) {
 }
 
 void LegOdometryEstimator::step(const StepInput& raw) {
-  checkStepInput(raw, kMaxContacts, "LegOdometryEstimator");
-  std::optional<StepInput> admitted;
-  const StepInput& in = admitContacts(raw, limits_, health_, admitted);
-  const bool imu_admitted = admitImu(in, limits_, health_);
-  if (has_previous_ && in.dt > limits_.max_dt) {
-    health_.record(Fault::kTimeGap, in.t);
-    restart(estimate());
-  }
+  InputCopies copies;
+  const auto [in, imu_admitted] =
+      admit(raw, has_previous_, limits_, "LegOdometryEstimator", copies);
   const Eigen::Vector3d v_before = v_;
   if (has_previous_ && in.dt > 0.0) {
     const Eigen::Vector3d a_world = R_ * previous_.a_m + model::gravity();

@@ -133,15 +133,9 @@ void LinearKf::reset(const EstimateSample& x0) {
 }
 
 void LinearKf::step(const StepInput& raw) {
-  checkStepInput(raw, leg_odometry::kMaxContacts, "LinearKf");  // throws before anything changes
-  std::optional<StepInput> admitted, slotted;
-  const StepInput& in =
-      slots_.map(admitContacts(raw, params_.limits, health_, admitted), slotted, health_);
-  const bool imu_admitted = admitImu(in, params_.limits, health_);
-  if (has_previous_ && in.dt > params_.limits.max_dt) {
-    health_.record(Fault::kTimeGap, in.t);
-    restart(estimate());  // nothing integrated across the gap; from here a first sample
-  }
+  InputCopies copies;
+  const auto [in, imu_admitted] =
+      admit(raw, has_previous_, params_.limits, "LinearKf", copies, slots_);
   const Eigen::Vector3d v_before = x_.segment<3>(kV);
   if (has_previous_ && in.dt > 0.0) {
     // u = R_hat (a_m - b_a) + g with the attitude at the start of the interval (zero-order hold).
