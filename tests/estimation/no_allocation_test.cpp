@@ -1,0 +1,160 @@
+// "No heap allocation per filter step", checked for every estimator of the kit across what
+// changes the shape of a filter's problem: touchdowns and lift-offs of every gait (one, two and
+// four feet down), feet given slots on a hexapod, and inputs the contract rejects (an IMU sample
+// beyond range, a foot beyond range). This program counts every heap allocation it makes.
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <cstdlib>
+#include <memory>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "estimation/estimators.hpp"
+#include "estimation/log_frontend.hpp"
+#include "sim/simulator.hpp"
+
+namespace {
+std::atomic<long> g_allocations{0};
+}
+void* operator new(std::size_t size) {
+  ++g_allocations;
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) {
+  return operator new(size);
+}
+// The nothrow forms too (Catch uses them): every form must pair with the free() below, or a
+// sanitizer build reports an allocation/deallocation mismatch.
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  ++g_allocations;
+  return std::malloc(size == 0 ? 1 : size);
+}
+void* operator new[](std::size_t size, const std::nothrow_t& tag) noexcept {
+  return operator new(size, tag);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  std::free(p);
+}
+
+namespace legkit {
+namespace {
+
+struct Inputs {
+  std::vector<StepInput> steps;
+  EstimateSample x0;
+};
+
+// `duration` seconds of a simulated scenario as estimator inputs (built before counting starts).
+Inputs scenario(const std::string& name, double duration) {
+  sim::SimOptions options;
+  options.scenario = sim::scenarioByName(name);
+  options.duration = duration;
+  const io::Log log = sim::simulate(options).log;
+  const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
+  Inputs r;
+  for (std::size_t k = 0; k < log.rows.size(); ++k) {
+    const double dt = k == 0 ? 0.0 : log.rows[k].t - log.rows[k - 1].t;
+    r.steps.push_back(frontend.input(log.rows[k], dt));
+  }
+  const io::LogRow& first = log.rows.front();
+  r.x0 = {first.t, first.gt_q, first.gt_v, first.gt_p};
+  return r;
+}
+
+// The number of stance-set changes (touchdowns plus lift-offs) in the inputs.
+int contactChanges(const std::vector<StepInput>& steps) {
+  int changes = 0;
+  unsigned previous = 0;
+  for (const StepInput& in : steps) {
+    unsigned mask = 0;
+    for (const ContactMeasurement& c : in.stance()) mask |= 1u << c.foot;
+    changes += __builtin_popcount(mask ^ previous);
+    previous = mask;
+  }
+  return changes;
+}
+
+// Heap allocations made by reset() and every step() of `steps`, on a filter built beforehand.
+long allocationsOfRun(Estimator& e, const Inputs& inputs) {
+  const long before = g_allocations.load();
+  e.reset(inputs.x0);
+  for (const StepInput& in : inputs.steps) e.step(in);
+  return g_allocations.load() - before;
+}
+
+}  // namespace
+
+TEST_CASE("no allocation: every estimator, through the touchdowns and lift-offs of every gait",
+          "[estimator]") {
+  for (const std::string& gait : {"walk", "trot", "bound", "turn"}) {
+    const Inputs inputs = scenario(gait, 2.0);
+    REQUIRE(contactChanges(inputs.steps) >= 8);  // the gait really steps in 2 s
+    for (const std::string& name : estimatorNames()) {
+      INFO(name << " on " << gait);
+      const std::unique_ptr<Estimator> e = makeEstimator(name);
+      CHECK(allocationsOfRun(*e, inputs) == 0);
+      CHECK(e->estimate().t == inputs.steps.back().t);  // it did run
+      CHECK(e->health().healthy());
+    }
+  }
+}
+
+TEST_CASE("no allocation: rejected samples and feet given slots", "[estimator]") {
+  Inputs inputs = scenario("trot", 1.0);
+  const std::size_t n = inputs.steps.size();
+  inputs.steps[n / 3].imu.w_m.x() = 100.0;  // beyond the gyro's range: not admitted
+  StepInput& far = inputs.steps[n / 2];
+  REQUIRE(far.num_contacts > 0);
+  far.contacts[0].p_body.z() = -50.0;  // a foot beyond reach: dropped (a copy of the input)
+  // Six feet on a hexapod, standing then on alternating tripods: the four-foot filters give the
+  // stance feet slots (a second copy of the input whenever a foot is moved to another slot).
+  Inputs hexapod;
+  hexapod.x0 = {0.0, Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero(),
+                Eigen::Vector3d(0, 0, 0.3)};
+  for (int k = 0; k <= 2000; ++k) {
+    StepInput in;
+    in.t = 1e-3 * k;
+    in.dt = k == 0 ? 0.0 : 1e-3;
+    in.imu.a_m = Eigen::Vector3d(0, 0, 9.81);
+    const int phase = k < 500 ? -1 : (k / 250) % 2;  // all six, then tripods 0 2 4 / 1 3 5
+    for (int i = 0; i < 6; ++i) {
+      if (phase >= 0 && i % 2 != phase) continue;
+      const double angle = i * M_PI / 3.0;
+      ContactMeasurement& c = in.contacts[in.num_contacts++];
+      c.foot = i;
+      c.p_body = Eigen::Vector3d(0.4 * std::cos(angle), 0.4 * std::sin(angle), -0.3);
+      c.cov = 1e-6 * Eigen::Matrix3d::Identity();
+      c.v_body = Eigen::Vector3d::Zero();
+    }
+    hexapod.steps.push_back(in);
+  }
+  for (const std::string& name : estimatorNames()) {
+    INFO(name);
+    const std::unique_ptr<Estimator> e = makeEstimator(name);
+    CHECK(allocationsOfRun(*e, inputs) == 0);
+    CHECK(e->health()[Fault::kGyroRange] == 1);
+    CHECK(e->health()[Fault::kContactRange] == 1);
+    CHECK(allocationsOfRun(*e, hexapod) == 0);
+    CHECK(e->estimate().t == hexapod.steps.back().t);
+  }
+}
+
+}  // namespace legkit
