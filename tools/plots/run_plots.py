@@ -7,23 +7,41 @@ writes <folder>/trajectory-top.png. When the log has ground truth (gt_*) it also
 (position and velocity errors with their 3-sigma bounds) and <folder>/nees.png (NEES over time
 with the single-run 95 % chi-square bounds). Without ground truth, <folder>/sigma.png shows the
 filters' position and velocity standard deviations instead.
+
+The estimate files may be thinned (`legkit run --estimate-rate`): each estimate is compared with
+the log row nearest in time. Each estimator has one colour in every figure (palette.py).
 """
-import csv
 import glob
-import math
 import os
 import sys
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.patches import Rectangle  # noqa: E402
+
+from palette import TRUTH, colour  # noqa: E402
+
+VELOCITY_WINDOW = 1.0  # [s] of each RMS value in errors.png
 
 
-def has_column(path, column):
+def header(path):
+    """The column names of a CSV file whose header follows optional '#' comment lines."""
     with open(path, newline="", encoding="utf-8-sig") as f:
-        header = next(line for line in f if not line.startswith("#"))
-    return column in header.strip().split(",")
+        return next(line for line in f if not line.startswith("#")).strip().split(",")
+
+
+def read_csv(path, columns=None):
+    """{column: numpy array} for the requested columns (default: all)."""
+    names = header(path)
+    wanted = names if columns is None else columns
+    with open(path, newline="", encoding="utf-8-sig") as f:
+        next(line for line in f if not line.startswith("#"))  # past the header
+        values = np.loadtxt(f, delimiter=",", comments="#", ndmin=2,
+                            usecols=[names.index(c) for c in wanted])
+    return {c: values[:, i] for i, c in enumerate(wanted)}
 
 
 def nees_bounds(path):
@@ -35,156 +53,232 @@ def nees_bounds(path):
     return None
 
 
-def read_csv(path, columns):
-    """Returns {column: [floats]} for the requested columns; '#' comment lines are skipped."""
-    with open(path, newline="", encoding="utf-8-sig") as f:
-        rows = csv.DictReader(line for line in f if not line.startswith("#"))
-        data = {c: [] for c in columns}
-        for row in rows:
-            for c in columns:
-                data[c].append(float(row[c]))
-    return data
+def nearest_rows(times, t):
+    """Index of the entry of the sorted array times nearest to each t."""
+    i = np.clip(np.searchsorted(times, t), 1, len(times) - 1)
+    return np.where(np.abs(times[i - 1] - t) <= np.abs(times[i] - t), i - 1, i)
 
 
-def plot_without_truth(folder, estimates):
-    """Trajectory and, for the filters, their standard deviations: all a log without truth gives."""
-    fig, ax = plt.subplots(figsize=(7, 6))
-    for name, e in estimates.items():
-        ax.plot(e["px"], e["py"], lw=1, label=name)
-    ax.set_aspect("equal", adjustable="datalim")
+def rms_per_window(t, x, window):
+    """(window centres, RMS of x in each window [t0 + k w, t0 + (k + 1) w)) over windows with data."""
+    k = np.floor((t - t[0]) / window).astype(int)
+    sums = np.bincount(k, weights=x * x)
+    counts = np.bincount(k)
+    filled = counts > 0
+    centres = t[0] + (np.arange(len(counts)) + 0.5) * window
+    return centres[filled], np.sqrt(sums[filled] / counts[filled])
+
+
+def off_frame(reference, paths):
+    """Names of the paths ({name: (x, y)}) that stray from the reference (x, y, t-matched) by more
+    than a quarter of its extent (at least 1 m): drawn at their own scale, they would squash the
+    others into one line."""
+    rx, ry = reference
+    span = max(np.ptp(rx), np.ptp(ry), 4.0)
+    far = set()
+    for name, (x, y) in paths.items():
+        distance = np.hypot(x - rx, y - ry)
+        if not np.all(np.isfinite(distance)) or distance.max() > 0.25 * span:
+            far.add(name)
+    return far
+
+
+def frame(paths):
+    """(xmin, xmax, ymin, ymax) around the paths ([(x, y)]) with a margin, at least 1 m wide."""
+    x = np.concatenate([p[0] for p in paths])
+    y = np.concatenate([p[1] for p in paths])
+    x, y = x[np.isfinite(x)], y[np.isfinite(y)]
+    half_x = max(0.55 * np.ptp(x), 0.5)
+    half_y = max(0.55 * np.ptp(y), 0.5)
+    cx, cy = 0.5 * (x.min() + x.max()), 0.5 * (y.min() + y.max())
+    return cx - half_x, cx + half_x, cy - half_y, cy + half_y
+
+
+def legend_outside(ax, **kwargs):
+    """The legend to the right of the axes, off the data."""
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, **kwargs)
+
+
+def save(fig, folder, name):
+    fig.savefig(os.path.join(folder, name), dpi=120, bbox_inches="tight")
+    plt.close(fig)
+
+
+def draw_trajectory(folder, estimates, truth):
+    """trajectory-top.png: zoomed on the truth (or, without it, on the estimators' median) and the
+    estimators that follow it; one that strays (dead reckoning) is noted with where it ended and
+    shown whole in the overview beside."""
+    paths = {name: (e["px"], e["py"]) for name, e in estimates.items()}
+    if truth is not None:
+        reference_paths = {TRUTH: (truth["gt_px"], truth["gt_py"])}
+        references = {name: (truth["gt_px"][r], truth["gt_py"][r])
+                      for name, r in ((n, nearest_rows(truth["t"], e["t"]))
+                                      for n, e in estimates.items())}
+    else:
+        reference_paths = {}
+        lengths = {len(e["t"]) for e in estimates.values()}
+        median = (np.median([p[0] for p in paths.values()], axis=0),
+                  np.median([p[1] for p in paths.values()], axis=0)) if len(lengths) == 1 else None
+        references = {name: median for name in estimates} if median is not None else {}
+    far = set()
+    for name, path in paths.items():
+        if name in references:
+            far |= off_frame(references[name], {name: path})
+    near = {**reference_paths, **{n: p for n, p in paths.items() if n not in far}}
+    if not near:
+        near = paths
+
+    fig = plt.figure(figsize=(11, 6))
+    grid = fig.add_gridspec(2, 2, width_ratios=(3, 1), height_ratios=(1, 1))
+    ax = fig.add_subplot(grid[:, 0])
+    overview = fig.add_subplot(grid[0, 1])
+    legend_box = fig.add_subplot(grid[1, 1])
+    legend_box.axis("off")
+    for a in (ax, overview):
+        for name, (x, y) in reference_paths.items():
+            a.plot(x, y, color=colour(name), lw=2, label=name)
+        for name, (x, y) in paths.items():
+            label = name
+            if name in far:
+                label = f"{name} (off the frame,\nends at x {x[-1]:.1f} m, y {y[-1]:.1f} m)"
+            a.plot(x, y, color=colour(name), lw=1, label=label)
+    xmin, xmax, ymin, ymax = frame(list(near.values()))
+    ax.set_xlim(xmin, xmax)
+    ax.set_ylim(ymin, ymax)
+    stretch = (xmax - xmin) / (ymax - ymin)
+    if 0.25 <= stretch <= 4.0:
+        ax.set_aspect("equal", adjustable="datalim")
+        scale_note = ""
+    else:
+        scale_note = " (axes not to the same scale)"
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.set_title("Trajectory, top view (the log has no ground truth)")
+    ax.set_title("Trajectory, top view" + scale_note +
+                 ("" if truth is not None else "\n(the log has no ground truth)"))
     ax.grid(True, alpha=0.3)
-    ax.legend()
+    overview.set_aspect("equal", adjustable="datalim")
+    overview.add_patch(Rectangle((xmin, ymin), xmax - xmin, ymax - ymin, fill=False, ls="--",
+                                 lw=0.8, color="0.4"))
+    overview.set_title("whole run (dashed: the frame)", fontsize=9)
+    overview.tick_params(labelsize=7)
+    overview.grid(True, alpha=0.3)
+    handles, labels = ax.get_legend_handles_labels()
+    legend_box.legend(handles, labels, loc="upper left", fontsize=8, frameon=False)
     fig.tight_layout()
-    fig.savefig(os.path.join(folder, "trajectory-top.png"), dpi=120)
-    filters = {}
-    for name in estimates:
-        path = os.path.join(folder, "estimate_" + name + ".csv")
-        if has_column(path, "sigma_px"):
-            filters[name] = read_csv(path, ["t", "sigma_px", "sigma_py", "sigma_vx", "sigma_vy"])
-    if not filters:
-        return
-    fig, (ap, av) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
-    for name, e in filters.items():
-        ap.semilogy(e["t"], [math.hypot(a, b) for a, b in zip(e["sigma_px"], e["sigma_py"])],
-                    lw=1, label=name)
-        av.semilogy(e["t"], [math.hypot(a, b) for a, b in zip(e["sigma_vx"], e["sigma_vy"])],
-                    lw=1, label=name)
-    ap.set_ylabel("horizontal sigma_p [m]")
-    av.set_ylabel("horizontal sigma_v [m/s]")
-    av.set_xlabel("t [s]")
-    for a in (ap, av):
-        a.grid(True, which="both", alpha=0.3)
-        a.legend()
-    ap.set_title("The filters' own uncertainty")
+    save(fig, folder, "trajectory-top.png")
+
+
+def draw_two_panels(folder, name, titles, ylabels, panels):
+    """A figure of two log-scale panels sharing time, each a list of (estimator, t, y, label)."""
+    fig, axes = plt.subplots(2, 1, figsize=(10, 6), sharex=True)
+    for ax, title, ylabel, curves in zip(axes, titles, ylabels, panels):
+        for estimator, t, y, label in curves:
+            ax.semilogy(t, np.maximum(y, 1e-6), color=colour(estimator), lw=1, label=label)
+        ax.set_title(title, fontsize=10)
+        ax.set_ylabel(ylabel)
+        ax.grid(True, which="both", alpha=0.3)
+    axes[-1].set_xlabel("t [s]")
+    legend_outside(axes[0])
     fig.tight_layout()
-    fig.savefig(os.path.join(folder, "sigma.png"), dpi=120)
+    save(fig, folder, name)
 
 
-def main(folder, log_path):
-    estimates = {}
-    for path in sorted(glob.glob(os.path.join(folder, "estimate_*.csv"))):
-        name = os.path.basename(path)[len("estimate_"):-len(".csv")]
-        estimates[name] = read_csv(path, ["t", "px", "py", "pz", "vx", "vy", "vz"])
-    if not has_column(log_path, "gt_px"):
-        plot_without_truth(folder, estimates)
-        return
-    truth = read_csv(log_path, ["t", "gt_px", "gt_py", "gt_pz", "gt_vx", "gt_vy", "gt_vz"])
-
-    fig, ax = plt.subplots(figsize=(7, 6))
-    ax.plot(truth["gt_px"], truth["gt_py"], "k-", lw=2, label="ground truth")
+def draw_errors(folder, estimates, truth):
+    """errors.png: |position error| at each written sample, |velocity error| as its RMS per
+    VELOCITY_WINDOW (every sample it would be a band of noise)."""
+    position, velocity = [], []
     for name, e in estimates.items():
-        ax.plot(e["px"], e["py"], lw=1, label=name)
-    # Dead reckoning leaves the picture within seconds: frame the truth, not the worst estimate.
-    span = max(max(truth["gt_px"]) - min(truth["gt_px"]), max(truth["gt_py"]) - min(truth["gt_py"]), 1.0)
-    cx = 0.5 * (max(truth["gt_px"]) + min(truth["gt_px"]))
-    cy = 0.5 * (max(truth["gt_py"]) + min(truth["gt_py"]))
-    ax.set_xlim(cx - 0.75 * span, cx + 0.75 * span)
-    ax.set_ylim(cy - 0.75 * span, cy + 0.75 * span)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.set_title("Trajectory, top view")
-    ax.grid(True, alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(os.path.join(folder, "trajectory-top.png"), dpi=120)
+        r = nearest_rows(truth["t"], e["t"])
+        ep = np.sqrt(sum((e["p" + a] - truth["gt_p" + a][r]) ** 2 for a in "xyz"))
+        ev = np.sqrt(sum((e["v" + a] - truth["gt_v" + a][r]) ** 2 for a in "xyz"))
+        position.append((name, e["t"], ep, name))
+        t, rms = rms_per_window(e["t"], ev, VELOCITY_WINDOW)
+        velocity.append((name, t, rms, name))
+    draw_two_panels(folder, "errors.png",
+                    ("Position error against ground truth, at each written sample",
+                     f"Velocity error against ground truth, RMS over each {VELOCITY_WINDOW:g} s"),
+                    ("|position error| [m]", "RMS |velocity error| [m/s]"), (position, velocity))
 
-    fig, (ap, av) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
-    for name, e in estimates.items():
-        ep = [math.dist((e["px"][k], e["py"][k], e["pz"][k]),
-                        (truth["gt_px"][k], truth["gt_py"][k], truth["gt_pz"][k]))
-              for k in range(len(e["t"]))]
-        ev = [math.dist((e["vx"][k], e["vy"][k], e["vz"][k]),
-                        (truth["gt_vx"][k], truth["gt_vy"][k], truth["gt_vz"][k]))
-              for k in range(len(e["t"]))]
-        ap.semilogy(e["t"], [max(x, 1e-6) for x in ep], lw=1, label=name)
-        av.semilogy(e["t"], [max(x, 1e-6) for x in ev], lw=0.6, label=name)
-    ap.set_ylabel("|position error| [m]")
-    av.set_ylabel("|velocity error| [m/s]")
-    av.set_xlabel("t [s]")
-    for a in (ap, av):
-        a.grid(True, which="both", alpha=0.3)
-        a.legend()
-    ap.set_title("Errors against ground truth")
-    fig.tight_layout()
-    fig.savefig(os.path.join(folder, "errors.png"), dpi=120)
 
-    filters = {}
-    for name in estimates:
-        path = os.path.join(folder, "estimate_" + name + ".csv")
-        if has_column(path, "sigma_px"):
-            columns = ["t", "px", "py", "pz", "vx", "vy", "vz"] + \
-                ["sigma_" + a for a in ("vx", "vy", "vz", "px", "py", "pz")]
-            with_nees = has_column(path, "nees")
-            filters[name] = (read_csv(path, columns + (["nees"] if with_nees else [])),
-                             nees_bounds(path) if with_nees else None)
-    if not filters:
-        return
-    every = max(1, len(truth["t"]) // 3000)  # thin to about 3000 points per curve
+def draw_sigma(folder, filters):
+    """sigma.png: the filters' own horizontal uncertainty, all a log without truth gives."""
+    panels = ([(n, e["t"], np.hypot(e["sigma_px"], e["sigma_py"]), n) for n, e in filters.items()],
+              [(n, e["t"], np.hypot(e["sigma_vx"], e["sigma_vy"]), n) for n, e in filters.items()])
+    draw_two_panels(folder, "sigma.png",
+                    ("The filters' own uncertainty: position", "... and velocity"),
+                    ("horizontal sigma_p [m]", "horizontal sigma_v [m/s]"), panels)
+
+
+def draw_bounds(folder, filters, truth):
+    """bounds.png: per filter, each axis's error (solid) inside its +-3 sigma (dashed)."""
     fig, axes = plt.subplots(len(filters), 2, figsize=(11, 2.6 * len(filters)), squeeze=False,
                              sharex=True)
-    colours = {"x": "tab:red", "y": "tab:green", "z": "tab:blue"}
-    for row, (name, (e, _)) in enumerate(filters.items()):
-        for col, (quantity, gt, unit) in enumerate((("p", "gt_p", "m"), ("v", "gt_v", "m/s"))):
+    axis_colours = {"x": "tab:red", "y": "tab:green", "z": "tab:blue"}
+    for row, (name, e) in enumerate(filters.items()):
+        every = max(1, len(e["t"]) // 3000)  # about 3000 points per curve
+        t = e["t"][::every]
+        r = nearest_rows(truth["t"], t)
+        for col, (quantity, unit) in enumerate((("p", "m"), ("v", "m/s"))):
             ax = axes[row][col]
-            t = e["t"][::every]
-            for axis, colour in colours.items():
-                err = [e[quantity + axis][k] - truth[gt + axis][k]
-                       for k in range(0, len(e["t"]), every)]
-                bound = [3 * s for s in e["sigma_" + quantity + axis][::every]]
-                ax.plot(t, err, color=colour, lw=0.7, label=axis + " error")
-                ax.plot(t, bound, color=colour, lw=0.7, ls="--")
-                ax.plot(t, [-b for b in bound], color=colour, lw=0.7, ls="--")
-            ax.set_ylabel(f"{name}\n[{unit}]")
+            for a, c in axis_colours.items():
+                err = e[quantity + a][::every] - truth["gt_" + quantity + a][r]
+                bound = 3 * e["sigma_" + quantity + a][::every]
+                ax.plot(t, err, color=c, lw=0.7, label=a + " error")
+                ax.plot(t, bound, color=c, lw=0.7, ls="--")
+                ax.plot(t, -bound, color=c, lw=0.7, ls="--")
+            ax.set_ylabel(f"{name}\n[{unit}]", color=colour(name))
             ax.grid(True, alpha=0.3)
             if row == 0:
                 ax.set_title(("Position" if quantity == "p" else "Velocity") +
                              " error (solid) and +-3 sigma (dashed)")
-                ax.legend(loc="upper left", fontsize=7)
+    legend_outside(axes[0][1], fontsize=8)
     for ax in axes[-1]:
         ax.set_xlabel("t [s]")
     fig.tight_layout()
-    fig.savefig(os.path.join(folder, "bounds.png"), dpi=120)
+    save(fig, folder, "bounds.png")
 
-    fig, ax = plt.subplots(figsize=(8, 4))
-    for name, (e, bounds) in filters.items():
-        if bounds is None:
-            continue
-        dof, lower, upper = bounds
+
+def draw_nees(folder, filters, bounds):
+    """nees.png: NEES / dof of each filter over the run, with its single-run 95 % bounds."""
+    fig, ax = plt.subplots(figsize=(10, 4))
+    for name, e in filters.items():
+        dof, lower, upper = bounds[name]
         # NEES / dof, so that 9- and 6-dimensional filters share one axis (1 = consistent).
-        ax.semilogy(e["t"][::every], [max(x / dof, 1e-4) for x in e["nees"][::every]], lw=0.6,
+        ax.semilogy(e["t"], np.maximum(e["nees"] / dof, 1e-4), color=colour(name), lw=0.6,
                     label=f"{name} (dof {dof}, 95 %: [{lower / dof:.2f}, {upper / dof:.2f}])")
     ax.axhline(1.0, color="k", lw=1)
     ax.set_xlabel("t [s]")
     ax.set_ylabel("NEES / dof")
     ax.set_title("Consistency of one run (single-run 95 % bounds in the legend)")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
+    legend_outside(ax, fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(folder, "nees.png"), dpi=120)
+    save(fig, folder, "nees.png")
+
+
+def main(folder, log_path):
+    estimates, bounds = {}, {}
+    for path in sorted(glob.glob(os.path.join(folder, "estimate_*.csv"))):
+        name = os.path.basename(path)[len("estimate_"):-len(".csv")]
+        e = read_csv(path)
+        if len(e["t"]) > 0:  # a run that failed at once has nothing to draw
+            estimates[name] = e
+            bounds[name] = nees_bounds(path)
+    filters = {name: e for name, e in estimates.items() if "sigma_px" in e}
+    truth = None
+    if "gt_px" in header(log_path):
+        truth = read_csv(log_path, ["t"] + ["gt_" + q + a for q in "pv" for a in "xyz"])
+    draw_trajectory(folder, estimates, truth)
+    if truth is None:
+        if filters:
+            draw_sigma(folder, filters)
+        return
+    draw_errors(folder, estimates, truth)
+    if filters:
+        draw_bounds(folder, filters, truth)
+        with_nees = {n: e for n, e in filters.items() if "nees" in e and bounds[n] is not None}
+        if with_nees:
+            draw_nees(folder, with_nees, bounds)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,114 @@
+"""The plot scripts' own logic (tools/plots): one colour per estimator, the trajectory framed on the
+estimators that follow the truth, the velocity error as an RMS per window, thinned estimate files
+matched to the log by time, and every figure of a run drawn from thinned files.
+
+Run: LEGKIT=build/legkit /usr/bin/python3 tests/tools/plots_test.py  (ctest does this)
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools",
+                                "plots"))
+import palette  # noqa: E402
+import run_plots  # noqa: E402
+
+
+class Palette(unittest.TestCase):
+    def test_every_estimator_of_legkit_run_has_its_own_colour(self):
+        legkit = os.environ.get("LEGKIT")
+        if not legkit:
+            self.skipTest("LEGKIT (the legkit program) not given")
+        with tempfile.TemporaryDirectory() as out:
+            result = subprocess.run([legkit, "run", "--duration", "0.2", "--no-plots", "--json",
+                                     "--out", out], capture_output=True, text=True, check=True)
+        names = [e["estimator"] for e in json.loads(result.stdout)]
+        self.assertGreaterEqual(len(names), 6)
+        for name in names:
+            self.assertIn(name, palette.COLOURS, name + " has no colour of its own")
+        colours = [palette.colour(n) for n in names + [palette.TRUTH]]
+        self.assertEqual(len(set(colours)), len(colours), "two estimators share a colour")
+
+    def test_an_unknown_estimator_always_gets_the_same_spare_colour(self):
+        self.assertIn(palette.colour("my-filter"), palette.SPARE)
+        self.assertEqual(palette.colour("my-filter"), palette.colour("my-filter"))
+
+
+class Framing(unittest.TestCase):
+    def test_dead_reckoning_is_off_the_frame_and_the_others_decide_it(self):
+        t = np.linspace(0.0, 60.0, 601)
+        truth = (0.5 * t, np.zeros_like(t))  # 30 m straight on
+        follower = (0.5 * t, 0.005 * t)  # 0.3 m off at the end
+        drifter = (0.5 * t - 0.03 * t**2, 0.03 * t**2)  # 100 m off at the end
+        far = run_plots.off_frame(truth, {"eskf": follower, "imu-dead-reckoning": drifter})
+        self.assertEqual(far, {"imu-dead-reckoning"})
+        xmin, xmax, ymin, ymax = run_plots.frame([truth, follower])
+        self.assertLess(xmin, 0.0)
+        self.assertGreater(xmax, 30.0)
+        self.assertLess(xmax - xmin, 40.0)  # not stretched to the drifter's 100 m
+        self.assertLess(ymax - ymin, 2.0)
+        self.assertGreater(ymax, 0.3)
+
+    def test_a_path_that_stops_being_finite_is_off_the_frame(self):
+        t = np.linspace(0.0, 1.0, 11)
+        bad = (t.copy(), np.where(t > 0.5, np.nan, 0.0))
+        self.assertEqual(run_plots.off_frame((t, 0 * t), {"x": bad}), {"x"})
+
+
+class Errors(unittest.TestCase):
+    def test_rms_per_window(self):
+        t = np.arange(2000) / 1000.0
+        x = np.where(t < 1.0, 1.0, -3.0)
+        centres, rms = run_plots.rms_per_window(t, x, 1.0)
+        np.testing.assert_allclose(centres, [0.5, 1.5])
+        np.testing.assert_allclose(rms, [1.0, 3.0])
+
+    def test_thinned_estimates_meet_the_log_row_of_their_time(self):
+        log_t = 2.0 + np.arange(3001) / 1000.0
+        kept = np.arange(0, 3001, 10)
+        written = np.round(log_t[kept], 10) + 1e-11  # as printed with 10 digits
+        np.testing.assert_array_equal(run_plots.nearest_rows(log_t, written), kept)
+
+
+class Figures(unittest.TestCase):
+    def test_every_figure_of_a_run_from_thinned_estimate_files(self):
+        rate, duration = 1000, 3.0
+        t = np.arange(int(rate * duration) + 1) / rate
+        gt = {"gt_px": 0.5 * t, "gt_py": 0 * t, "gt_pz": 0.3 + 0 * t,
+              "gt_vx": 0.5 + 0 * t, "gt_vy": 0 * t, "gt_vz": 0 * t}
+        with tempfile.TemporaryDirectory() as folder:
+            with open(os.path.join(folder, "log.csv"), "w") as f:
+                f.write("# a made-up log: only the columns the plots read\n")
+                f.write("t," + ",".join(gt) + "\n")
+                for k in range(len(t)):
+                    f.write(f"{t[k]}," + ",".join(f"{gt[c][k]}" for c in gt) + "\n")
+            every = 10  # 100 Hz, as `legkit run` writes by default
+            sigma_cols = ["sigma_th" + a for a in "xyz"] + ["sigma_v" + a for a in "xyz"] + \
+                ["sigma_p" + a for a in "xyz"]
+            for name, drift in (("eskf", 0.01), ("imu-dead-reckoning", 20.0)):
+                with open(os.path.join(folder, f"estimate_{name}.csv"), "w") as f:
+                    filt = name == "eskf"
+                    if filt:
+                        f.write("# nees_dof 9 lower 2.7 upper 19.0\n")
+                    f.write("t,px,py,pz,qw,qx,qy,qz,vx,vy,vz" +
+                            ("," + ",".join(sigma_cols) + ",nees" if filt else "") + "\n")
+                    for k in range(0, len(t), every):
+                        row = [t[k], gt["gt_px"][k], drift * t[k] ** 2, 0.3, 1, 0, 0, 0,
+                               0.5, 2 * drift * t[k], 0.0]
+                        if filt:
+                            row += [0.01] * 9 + [9.0]
+                        f.write(",".join(f"{v:.10g}" for v in row) + "\n")
+            run_plots.main(folder, os.path.join(folder, "log.csv"))
+            for png in ("trajectory-top.png", "errors.png", "bounds.png", "nees.png"):
+                path = os.path.join(folder, png)
+                self.assertTrue(os.path.exists(path), png)
+                self.assertGreater(os.path.getsize(path), 10000, png)
+
+
+if __name__ == "__main__":
+    unittest.main()
