@@ -5,6 +5,7 @@
 
 #include "estimation/imu/gyro_integration.hpp"
 #include "ex57_2_3.hpp"
+#include "exercises/exercise_check.hpp"
 
 using legkit::imu::RateSample;
 
@@ -21,36 +22,36 @@ Eigen::Vector3d ringing(double t) {
 
 }  // namespace
 
-TEST_CASE("57.2.3 one-step error matches the kit for an impact and a ringing", "[ex57.2.3]") {
+TEST_CASE("57.2.3 one-step error matches the kit for an impact and a ringing",
+          "[ex57.2.3][hint 2]") {
   for (double dt : {5e-4, 1e-3, 2.5e-3}) {
-    CHECK(ex57_2_3::oneStepError(impact, dt) ==
-          Approx(legkit::imu::gyroStepError(impact, 0.0, dt, RateSample::kStart)).epsilon(1e-3));
-    CHECK(ex57_2_3::oneStepError(ringing, dt) ==
-          Approx(legkit::imu::gyroStepError(ringing, 0.0, dt, RateSample::kStart)).epsilon(1e-3));
+    REQUIRE_REL(ex57_2_3::oneStepError(impact, dt),
+                legkit::imu::gyroStepError(impact, 0.0, dt, RateSample::kStart), 1e-3);
+    REQUIRE_REL(ex57_2_3::oneStepError(ringing, dt),
+                legkit::imu::gyroStepError(ringing, 0.0, dt, RateSample::kStart), 1e-3);
   }
   // the numbers quoted in answer.md: 2.5 mrad at 1 kHz, 15.6 mrad at 400 Hz
-  CHECK(ex57_2_3::oneStepError(impact, 1e-3) == Approx(2.5e-3).epsilon(1e-3));
-  CHECK(ex57_2_3::oneStepError(impact, 2.5e-3) == Approx(1.5625e-2).epsilon(1e-3));
+  REQUIRE_REL(ex57_2_3::oneStepError(impact, 1e-3), 2.5e-3, 1e-3);
+  REQUIRE_REL(ex57_2_3::oneStepError(impact, 2.5e-3), 1.5625e-2, 1e-3);
 }
 
-TEST_CASE("57.2.3 a constant rate has no discretisation error", "[ex57.2.3]") {
+TEST_CASE("57.2.3 a constant rate has no discretisation error", "[ex57.2.3][hint 1]") {
   const auto constant = [](double) { return Eigen::Vector3d(0.3, -2.0, 1.0); };
-  CHECK(ex57_2_3::oneStepError(constant, 5e-3) < 1e-12);
+  REQUIRE_BELOW(ex57_2_3::oneStepError(constant, 5e-3), 1e-12);
 }
 
-TEST_CASE("57.2.3 the derived leading term predicts the ramp error", "[ex57.2.3]") {
+TEST_CASE("57.2.3 the derived leading term predicts the ramp error", "[ex57.2.3][hint 3]") {
   const Eigen::Vector3d w0(2.0, 0.0, 0.0), alpha(0.0, 5000.0, 0.0);
   const auto ramp = [&](double t) { return Eigen::Vector3d(w0 + alpha * t); };
   for (double dt : {2.5e-4, 1e-3}) {
     const double kit = legkit::imu::gyroStepError(ramp, 0.0, dt, RateSample::kStart);
-    CHECK(ex57_2_3::predictedRampError(w0, alpha, dt) == Approx(kit).epsilon(1e-3));
+    REQUIRE_REL(ex57_2_3::predictedRampError(w0, alpha, dt), kit, 1e-3);
   }
 }
 
-TEST_CASE("57.2.3 the step a landing impact needs for a 0.1 mrad error", "[ex57.2.3]") {
+TEST_CASE("57.2.3 the step a landing impact needs for a 0.1 mrad error", "[ex57.2.3][hint 3]") {
   const double dt = ex57_2_3::maxStepForTolerance(5000.0, 1e-4);
-  CHECK(dt == Approx(2e-4).epsilon(1e-9));  // 5 kHz
+  REQUIRE_REL(dt, 2e-4, 1e-9);  // 5 kHz
   const auto ramp = [](double t) { return Eigen::Vector3d(0.0, 5000.0 * t, 0.0); };
-  CHECK(legkit::imu::gyroStepError(ramp, 0.0, dt, RateSample::kStart) ==
-        Approx(1e-4).epsilon(1e-3));
+  REQUIRE_REL(legkit::imu::gyroStepError(ramp, 0.0, dt, RateSample::kStart), 1e-4, 1e-3);
 }

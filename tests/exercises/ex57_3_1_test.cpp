@@ -7,6 +7,7 @@
 
 #include "estimation/leg_odometry/base_velocity.hpp"
 #include "ex57_3_1.hpp"
+#include "exercises/exercise_check.hpp"
 #include "model/quadruped.hpp"
 
 namespace {
@@ -30,25 +31,25 @@ struct Draw {
 
 }  // namespace
 
-TEST_CASE("57.3.1 FR foot position equals the kit's FK", "[ex57.3.1]") {
+TEST_CASE("57.3.1 FR foot position equals the kit's FK", "[ex57.3.1][hint 1]") {
   const legkit::model::QuadrupedKinematics kin;
   Draw draw(31);
   for (int i = 0; i < 200; ++i) {
     const Eigen::Vector3d q = draw.q(kin.geometry());
-    CHECK((ex57_3_1::frFootPosition(q) - kin.footPosition(FR, q)).norm() < 1e-12);
+    REQUIRE_NEAR(ex57_3_1::frFootPosition(q), kin.footPosition(FR, q), 1e-12);
   }
 }
 
-TEST_CASE("57.3.1 FR foot Jacobian equals the kit's analytic Jacobian", "[ex57.3.1]") {
+TEST_CASE("57.3.1 FR foot Jacobian equals the kit's analytic Jacobian", "[ex57.3.1][hint 2]") {
   const legkit::model::QuadrupedKinematics kin;
   Draw draw(32);
   for (int i = 0; i < 200; ++i) {
     const Eigen::Vector3d q = draw.q(kin.geometry());
-    CHECK((ex57_3_1::frFootJacobian(q) - kin.footJacobian(FR, q)).cwiseAbs().maxCoeff() < 1e-12);
+    REQUIRE_NEAR(ex57_3_1::frFootJacobian(q), kin.footJacobian(FR, q), 1e-12);
   }
 }
 
-TEST_CASE("57.3.1 explicit base velocity equals the kit's leg odometry", "[ex57.3.1]") {
+TEST_CASE("57.3.1 explicit base velocity equals the kit's leg odometry", "[ex57.3.1][hint 3]") {
   const legkit::model::QuadrupedKinematics kin;
   Draw draw(33);
   for (int i = 0; i < 200; ++i) {
@@ -57,11 +58,12 @@ TEST_CASE("57.3.1 explicit base velocity equals the kit's leg odometry", "[ex57.
     const Eigen::Vector3d kit = legkit::leg_odometry::baseVelocityFromFoot(
         R, w, kin.footPosition(FR, q), kin.footJacobian(FR, q) * dq);
     const Eigen::Vector3d v_b = ex57_3_1::frBaseVelocityBody(w, q, dq);
-    CHECK((R * v_b - kit).norm() < 1e-11);
+    REQUIRE_NEAR(R * v_b, kit, 1e-11);
   }
 }
 
-TEST_CASE("57.3.1 turning in place over a fixed FR foot gives zero base velocity", "[ex57.3.1]") {
+TEST_CASE("57.3.1 turning in place over a fixed FR foot gives zero base velocity",
+          "[ex57.3.1][hint 3]") {
   const legkit::model::QuadrupedKinematics kin;
   Draw draw(34);
   for (int i = 0; i < 50; ++i) {
@@ -70,6 +72,6 @@ TEST_CASE("57.3.1 turning in place over a fixed FR foot gives zero base velocity
     const Eigen::Vector3d q(0.05, 0.8, -1.5), w = draw.vec(1.0);
     const Eigen::Vector3d r = kin.footPosition(FR, q);
     const Eigen::Vector3d dq = kin.footJacobian(FR, q).lu().solve(-w.cross(r));
-    CHECK(ex57_3_1::frBaseVelocityBody(w, q, dq).norm() < 1e-12);
+    REQUIRE_NEAR(ex57_3_1::frBaseVelocityBody(w, q, dq), Eigen::Vector3d::Zero(), 1e-12);
   }
 }

@@ -7,6 +7,7 @@
 #include "estimation/leg_odometry/velocity_fusion.hpp"
 #include "estimation/linear_kf/linear_kf.hpp"
 #include "ex57_4_3.hpp"
+#include "exercises/exercise_check.hpp"
 
 namespace lkf = legkit::linear_kf;
 
@@ -23,33 +24,33 @@ lkf::Matrix18 randomCovariance(std::mt19937& gen) {
 
 }  // namespace
 
-TEST_CASE("57.4.3 the accelerometer's Q block enters through B", "[ex57.4.3]") {
+TEST_CASE("57.4.3 the accelerometer's Q block enters through B", "[ex57.4.3][hint 4]") {
   for (double dt : {0.001, 0.002, 0.01}) {
     const Eigen::Matrix2d mine = ex57_4_3::navigationNoisePerAxis(dt, 0.04);
     const lkf::Matrix6 kit =
         lkf::navigationNoise(dt, Eigen::Matrix3d::Identity() * (0.04 * 0.04 / dt));
     for (int a = 0; a < 3; ++a) {
-      CHECK(mine(0, 0) == Approx(kit(a, a)).epsilon(1e-12));
-      CHECK(mine(0, 1) == Approx(kit(a, 3 + a)).epsilon(1e-12));
-      CHECK(mine(1, 0) == Approx(kit(3 + a, a)).epsilon(1e-12));
-      CHECK(mine(1, 1) == Approx(kit(3 + a, 3 + a)).epsilon(1e-12));
+      REQUIRE_REL(mine(0, 0), kit(a, a), 1e-12);
+      REQUIRE_REL(mine(0, 1), kit(a, 3 + a), 1e-12);
+      REQUIRE_REL(mine(1, 0), kit(3 + a, a), 1e-12);
+      REQUIRE_REL(mine(1, 1), kit(3 + a, 3 + a), 1e-12);
     }
     // Not the integrated continuous noise's dt^3/3 on p: the sample is held over the step.
-    CHECK(mine(0, 0) == Approx(0.04 * 0.04 * dt * dt * dt / 4.0));
+    REQUIRE_REL(mine(0, 0), 0.04 * 0.04 * dt * dt * dt / 4.0, 1e-12);
   }
 }
 
-TEST_CASE("57.4.3 F P F^T by blocks", "[ex57.4.3]") {
+TEST_CASE("57.4.3 F P F^T by blocks", "[ex57.4.3][hint 1]") {
   std::mt19937 gen(3);
   const lkf::Matrix18 P = randomCovariance(gen);
   const double dt = 0.002;
   const lkf::ProcessModel m = lkf::processModel(dt, {true, true, true, true}, lkf::ProcessNoise{});
   const lkf::Matrix18 mine = ex57_4_3::predictCovariance(P, dt);
-  CHECK((mine - m.F * P * m.F.transpose()).cwiseAbs().maxCoeff() < 1e-14);
-  CHECK(mine == mine.transpose());
+  REQUIRE_NEAR(mine, m.F * P * m.F.transpose(), 1e-14);
+  REQUIRE_NEAR(mine, mine.transpose(), 0.0);  // exactly symmetric
 }
 
-TEST_CASE("57.4.3 the Joseph update, expanded, for any gain", "[ex57.4.3]") {
+TEST_CASE("57.4.3 the Joseph update, expanded, for any gain", "[ex57.4.3][hint 2]") {
   std::mt19937 gen(4);
   std::normal_distribution<double> n;
   const lkf::Matrix18 P = randomCovariance(gen);
@@ -62,16 +63,17 @@ TEST_CASE("57.4.3 the Joseph update, expanded, for any gain", "[ex57.4.3]") {
     const lkf::Matrix18 A = lkf::Matrix18::Identity() - K * H;
     const lkf::Matrix18 dense = A * P * A.transpose() + K * Rn * K.transpose();
     const lkf::Matrix18 mine = ex57_4_3::josephUpdate(P, K, foot, Rn);
-    CHECK((mine - dense).cwiseAbs().maxCoeff() < 1e-12);
-    CHECK(mine == mine.transpose());
+    INFO("foot " << foot);
+    REQUIRE_NEAR(mine, dense, 1e-12);
+    REQUIRE_NEAR(mine, mine.transpose(), 0.0);  // exactly symmetric
     lkf::Matrix18 kit = P;
     const lkf::Matrix18x3 N = P * H.transpose();
     lkf::josephUpdate(kit, K, N, H * N + Rn);
-    CHECK((mine - kit).cwiseAbs().maxCoeff() < 1e-12);
+    REQUIRE_NEAR(mine, kit, 1e-12);
   }
 }
 
-TEST_CASE("57.4.3 the mean stance velocity is the centroid foot's", "[ex57.4.3]") {
+TEST_CASE("57.4.3 the mean stance velocity is the centroid foot's", "[ex57.4.3][hint 3]") {
   std::mt19937 gen(5);
   std::normal_distribution<double> n;
   const auto vec = [&](double s) { return Eigen::Vector3d(s * n(gen), s * n(gen), s * n(gen)); };
@@ -89,6 +91,6 @@ TEST_CASE("57.4.3 the mean stance velocity is the centroid foot's", "[ex57.4.3]"
     const Eigen::Vector3d mine = ex57_4_3::centroidVelocity(R, w, stance);
     const Eigen::Vector3d mean = legkit::leg_odometry::meanVelocity(
         R, w, legkit::leg_odometry::ContactSpan{stance.data(), stance.size()});
-    CHECK((mine - mean).norm() < 1e-12);
+    REQUIRE_NEAR(mine, mean, 1e-12);
   }
 }

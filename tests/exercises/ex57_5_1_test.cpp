@@ -5,6 +5,7 @@
 #include <random>
 
 #include "ex57_5_1.hpp"
+#include "exercises/exercise_check.hpp"
 
 using ex57_5_1::ExtendedPose;
 using ex57_5_1::Matrix5d;
@@ -24,53 +25,55 @@ lie::SE23d toLie(const ExtendedPose& X) {
 
 }  // namespace
 
-TEST_CASE("57.5.1 toMatrix places R, v and p in the 5x5 matrix", "[ex57.5.1]") {
+TEST_CASE("57.5.1 toMatrix places R, v and p in the 5x5 matrix", "[ex57.5.1][hint 1]") {
   std::mt19937 gen(1);
   const ExtendedPose X = randomPose(gen);
-  CHECK(ex57_5_1::toMatrix(X).isApprox(toLie(X).matrix(), 1e-15));
+  const Matrix5d expected = toLie(X).matrix();
+  REQUIRE_NEAR(ex57_5_1::toMatrix(X), expected, 1e-15 * expected.norm());
 }
 
-TEST_CASE("57.5.1 compose equals the matrix product and stays in SE_2(3)", "[ex57.5.1]") {
+TEST_CASE("57.5.1 compose equals the matrix product and stays in SE_2(3)", "[ex57.5.1][hint 1]") {
   std::mt19937 gen(2);
   for (int i = 0; i < 50; ++i) {
     const ExtendedPose A = randomPose(gen), B = randomPose(gen);
     const ExtendedPose AB = ex57_5_1::compose(A, B);
     const Matrix5d expected = ex57_5_1::toMatrix(A) * ex57_5_1::toMatrix(B);
-    CHECK((ex57_5_1::toMatrix(AB) - expected).cwiseAbs().maxCoeff() < 1e-12);
-    CHECK(toLie(AB).isApprox(toLie(A) * toLie(B), 1e-12));
-    CHECK(ex57_5_1::isInSE23(ex57_5_1::toMatrix(AB), 1e-9));
+    REQUIRE_NEAR(ex57_5_1::toMatrix(AB), expected, 1e-12);
+    REQUIRE(toLie(AB).isApprox(toLie(A) * toLie(B), 1e-12));
+    REQUIRE(ex57_5_1::isInSE23(ex57_5_1::toMatrix(AB), 1e-9));
   }
 }
 
-TEST_CASE("57.5.1 inverse undoes compose on both sides and stays in SE_2(3)", "[ex57.5.1]") {
+TEST_CASE("57.5.1 inverse undoes compose on both sides and stays in SE_2(3)",
+          "[ex57.5.1][hint 1]") {
   std::mt19937 gen(3);
   for (int i = 0; i < 50; ++i) {
     const ExtendedPose X = randomPose(gen);
     const ExtendedPose Xi = ex57_5_1::inverse(X);
-    CHECK((ex57_5_1::toMatrix(ex57_5_1::compose(X, Xi)) - Matrix5d::Identity()).norm() < 1e-12);
-    CHECK((ex57_5_1::toMatrix(ex57_5_1::compose(Xi, X)) - Matrix5d::Identity()).norm() < 1e-12);
-    CHECK(ex57_5_1::isInSE23(ex57_5_1::toMatrix(Xi), 1e-9));
+    REQUIRE_NEAR(ex57_5_1::toMatrix(ex57_5_1::compose(X, Xi)), Matrix5d::Identity(), 1e-12);
+    REQUIRE_NEAR(ex57_5_1::toMatrix(ex57_5_1::compose(Xi, X)), Matrix5d::Identity(), 1e-12);
+    REQUIRE(ex57_5_1::isInSE23(ex57_5_1::toMatrix(Xi), 1e-9));
   }
 }
 
-TEST_CASE("57.5.1 isInSE23 rejects matrices outside the group", "[ex57.5.1]") {
+TEST_CASE("57.5.1 isInSE23 rejects matrices outside the group", "[ex57.5.1][hint 2]") {
   std::mt19937 gen(4);
   const Matrix5d good = ex57_5_1::toMatrix(randomPose(gen));
-  CHECK(ex57_5_1::isInSE23(good, 1e-9));
+  REQUIRE(ex57_5_1::isInSE23(good, 1e-9));
 
   Matrix5d reflection = good;
   reflection.col(0) *= -1.0;  // det R = -1
-  CHECK_FALSE(ex57_5_1::isInSE23(reflection, 1e-9));
+  REQUIRE_FALSE(ex57_5_1::isInSE23(reflection, 1e-9));
 
   Matrix5d stretched = good;
   stretched.topLeftCorner<3, 3>() *= 1.01;  // not orthonormal
-  CHECK_FALSE(ex57_5_1::isInSE23(stretched, 1e-9));
+  REQUIRE_FALSE(ex57_5_1::isInSE23(stretched, 1e-9));
 
   Matrix5d wrongBottom = good;
   wrongBottom(3, 0) = 0.5;  // last rows must be [0 | I]
-  CHECK_FALSE(ex57_5_1::isInSE23(wrongBottom, 1e-9));
+  REQUIRE_FALSE(ex57_5_1::isInSE23(wrongBottom, 1e-9));
 
   Matrix5d notANumber = good;
   notANumber(0, 3) = std::numeric_limits<double>::quiet_NaN();
-  CHECK_FALSE(ex57_5_1::isInSE23(notANumber, 1e-9));
+  REQUIRE_FALSE(ex57_5_1::isInSE23(notANumber, 1e-9));
 }

@@ -9,6 +9,7 @@
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "ex57_5_2.hpp"
+#include "exercises/exercise_check.hpp"
 
 using ex57_5_2::ImuInput;
 using ex57_5_2::Matrix9d;
@@ -31,7 +32,7 @@ double maxAbs(const Eigen::MatrixXd& M) {
 }  // namespace
 
 TEST_CASE("57.5.2 (a) eta is the world-frame rigid motion from the truth to the estimate",
-          "[ex57.5.2]") {
+          "[ex57.5.2][hint 1]") {
   std::mt19937 gen(1);
   // A world-frame motion T: turn 0.4 rad about world z, shift by s, add a velocity offset.
   Vector9d t;
@@ -39,15 +40,15 @@ TEST_CASE("57.5.2 (a) eta is the world-frame rigid motion from the truth to the 
   const lie::SE23d T = lie::SE23d::Exp(t);
   for (int i = 0; i < 20; ++i) {
     const lie::SE23d X = lie::SE23d::Random(gen, 3.0);
-    CHECK(ex57_5_2::rightInvariantError(X, X).norm() < 1e-12);
+    REQUIRE_NEAR(ex57_5_2::rightInvariantError(X, X), Vector9d::Zero(), 1e-12);
     // Moving the truth by T in the world gives the same error Log(T) at every state.
-    CHECK((ex57_5_2::rightInvariantError(T * X, X) - t).norm() < 1e-12);
+    REQUIRE_NEAR(ex57_5_2::rightInvariantError(T * X, X), t, 1e-12);
     const lie::SE23d Y = lie::SE23d::Random(gen, 3.0);
-    CHECK((ex57_5_2::rightInvariantError(Y, X) - (Y * X.inverse()).Log()).norm() < 1e-12);
+    REQUIRE_NEAR(ex57_5_2::rightInvariantError(Y, X), (Y * X.inverse()).Log(), 1e-12);
   }
 }
 
-TEST_CASE("57.5.2 (b) the error evolves the same way whatever the state", "[ex57.5.2]") {
+TEST_CASE("57.5.2 (b) the error evolves the same way whatever the state", "[ex57.5.2][hint 2]") {
   std::mt19937 gen(2);
   // Two very different truths with the same (large) initial error eta_0.
   Vector9d xi0;
@@ -69,25 +70,28 @@ TEST_CASE("57.5.2 (b) the error evolves the same way whatever the state", "[ex57
   }
   WARN("57.5.2 (b): largest difference between the two errors, and from Phi xi, over 1 s: "
        << worst << " (the error itself grew to " << predicted.norm() << ")");
-  CHECK(worst < 1e-9 * predicted.norm());
-  CHECK((predicted - xi0).norm() > 1.0);  // the error did change: not a trivial check
+  REQUIRE_BELOW(worst, 1e-9 * predicted.norm());
+  REQUIRE_ABOVE((predicted - xi0).norm(), 1.0);  // the error did change: not a trivial check
 }
 
-TEST_CASE("57.5.2 (b) the error transition is the same at every state and input", "[ex57.5.2]") {
+TEST_CASE("57.5.2 (b) the error transition is the same at every state and input",
+          "[ex57.5.2][hint 3]") {
   std::mt19937 gen(3);
   const double dt = 0.01;
   const Matrix9d Phi = ex57_5_2::closedFormPhi(kGravity, dt);
   Matrix9d A = Matrix9d::Zero();
   A.block<3, 3>(3, 0) = lie::hat3(kGravity);
   A.block<3, 3>(6, 3).setIdentity();
-  CHECK(maxAbs(Phi - (A * dt).exp()) < 1e-14);
-  CHECK(maxAbs(ex57_5_2::closedFormPhi(kGravity, 0.004) * ex57_5_2::closedFormPhi(kGravity, 0.006) -
-               Phi) < 1e-14);  // a constant-coefficient flow: Phi(s) Phi(t) = Phi(s + t)
+  const Matrix9d exact = (A * dt).exp();
+  REQUIRE_NEAR(Phi, exact, 1e-14);
+  // a constant-coefficient flow: Phi(s) Phi(t) = Phi(s + t)
+  REQUIRE_NEAR(ex57_5_2::closedFormPhi(kGravity, 0.004) * ex57_5_2::closedFormPhi(kGravity, 0.006),
+               Phi, 1e-14);
   for (int i = 0; i < 10; ++i) {
     const lie::SE23d X = lie::SE23d::Random(gen, 5.0);
     const ImuInput u = randomInput(gen, dt);
     const Matrix9d numeric = ex57_5_2::errorTransition(X, u, kGravity, 1e-5);
-    CHECK(maxAbs(numeric - Phi) < 1e-7);
+    REQUIRE_NEAR(numeric, Phi, 1e-7);
   }
 }
 
@@ -105,9 +109,9 @@ TEST_CASE("57.5.2 (c) the ESKF's error transition depends on the estimate and th
   WARN("57.5.2 (c): |F(X1, u1) - F(X2, u1)| = "
        << maxAbs(F11 - F21) << ", |F(X1, u1) - F(X1, u2)| = " << maxAbs(F11 - F12)
        << "; InEKF |Phi(X1, u1) - Phi(X2, u2)| = " << maxAbs(I11 - I21));
-  CHECK(maxAbs(F11 - F21) > 0.01);  // another attitude: another Jacobian
-  CHECK(maxAbs(F11 - F12) > 0.01);  // another input: another Jacobian
-  CHECK(maxAbs(I11 - I21) < 1e-7);  // the invariant error's does not move
+  REQUIRE_ABOVE(maxAbs(F11 - F21), 0.01);  // another attitude: another Jacobian
+  REQUIRE_ABOVE(maxAbs(F11 - F12), 0.01);  // another input: another Jacobian
+  REQUIRE_BELOW(maxAbs(I11 - I21), 1e-7);  // the invariant error's does not move
   // Both describe the same motion: the ESKF's is still the identity plus O(dt).
-  CHECK(maxAbs(F11 - Matrix9d::Identity()) < 1.0);
+  REQUIRE_BELOW(maxAbs(F11 - Matrix9d::Identity()), 1.0);
 }

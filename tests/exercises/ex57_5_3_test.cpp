@@ -7,6 +7,7 @@
 
 #include "estimation/invariant/eskf.hpp"
 #include "ex57_5_3.hpp"
+#include "exercises/exercise_check.hpp"
 
 using ex57_5_3::BlockCount;
 using ex57_5_3::Matrix15;
@@ -56,38 +57,41 @@ Matrix15 zeroBiasColumns(Matrix15 J) {
 
 }  // namespace
 
-TEST_CASE("57.5.3 eskfF is the ESKF's error dynamics", "[ex57.5.3]") {
+TEST_CASE("57.5.3 eskfF is the ESKF's error dynamics", "[ex57.5.3][hint 1]") {
   std::mt19937 gen(1);
   for (int trial = 0; trial < 50; ++trial) {
     const NavState x = randomState(gen);
     const Eigen::Vector3d w_m = normal3(gen, 2.0), a_m = normal3(gen, 10.0);
     const Matrix15 F = ex57_5_3::eskfF(x, w_m, a_m);
-    CHECK((F - kitEskfF(x, w_m, a_m)).cwiseAbs().maxCoeff() < 1e-12);
+    REQUIRE_NEAR(F, kitEskfF(x, w_m, a_m), 1e-12);
   }
 }
 
-TEST_CASE("57.5.3 eskfF depends on the estimate and on the measured input", "[ex57.5.3]") {
+TEST_CASE("57.5.3 eskfF depends on the estimate and on the measured input", "[ex57.5.3][hint 1]") {
   // By hand: level, no bias, at rest (a_m = +g up): the dv-dtheta block is -[a_m]_x.
   const Eigen::Vector3d w_m = Eigen::Vector3d::Zero(), a_m(0.0, 0.0, 9.81);
   NavState level;
   Eigen::Matrix3d expected;
   expected << 0.0, 9.81, 0.0, -9.81, 0.0, 0.0, 0.0, 0.0, 0.0;
   const Matrix15 F_level = ex57_5_3::eskfF(level, w_m, a_m);
-  CHECK((F_level.block<3, 3>(3, 0) - expected).cwiseAbs().maxCoeff() < 1e-12);
+  const Eigen::Matrix3d dv_dtheta_level = F_level.block<3, 3>(3, 0);
+  REQUIRE_NEAR(dv_dtheta_level, expected, 1e-12);
   // The same motion seen from an estimate turned 90 degrees about x: the block turns with R_hat.
   NavState turned = level;
   turned.R = lie::SO3d::Exp(Eigen::Vector3d(M_PI / 2, 0.0, 0.0)).matrix();
   const Matrix15 F_turned = ex57_5_3::eskfF(turned, w_m, a_m);
-  CHECK((F_turned.block<3, 3>(3, 0) - turned.R * expected).cwiseAbs().maxCoeff() < 1e-12);
-  CHECK((F_turned - F_level).norm() > 10.0);
+  const Eigen::Matrix3d dv_dtheta_turned = F_turned.block<3, 3>(3, 0);
+  REQUIRE_NEAR(dv_dtheta_turned, turned.R * expected, 1e-12);
+  REQUIRE_ABOVE((F_turned - F_level).norm(), 10.0);
   // Another gyro reading or gyro-bias estimate changes the attitude block.
-  CHECK((ex57_5_3::eskfF(level, Eigen::Vector3d(0.0, 0.0, 1.0), a_m) - F_level).norm() > 1.0);
+  REQUIRE_ABOVE((ex57_5_3::eskfF(level, Eigen::Vector3d(0.0, 0.0, 1.0), a_m) - F_level).norm(),
+                1.0);
   NavState biased = level;
   biased.b_g = Eigen::Vector3d(0.01, 0.0, 0.0);
-  CHECK((ex57_5_3::eskfF(biased, w_m, a_m) - F_level).norm() > 0.01);
+  REQUIRE_ABOVE((ex57_5_3::eskfF(biased, w_m, a_m) - F_level).norm(), 0.01);
 }
 
-TEST_CASE("57.5.3 inekfA is the rate of the InEKF's exact transition", "[ex57.5.3]") {
+TEST_CASE("57.5.3 inekfA is the rate of the InEKF's exact transition", "[ex57.5.3][hint 2]") {
   // lie::imu::phiWithBias is the exact discrete transition of the imperfect InEKF over h:
   // Phi(h) = I + A h + O(h^2), so (Phi(h) - I) / h tends to A.
   std::mt19937 gen(2);
@@ -106,11 +110,12 @@ TEST_CASE("57.5.3 inekfA is the rate of the InEKF's exact transition", "[ex57.5.
     const Matrix15 rate = (lie::imu::phiWithBias(X, w, a, kGravity, h) - Matrix15::Identity()) / h;
     const Matrix15 A = ex57_5_3::inekfA(x, kGravity);
     INFO("trial " << trial);
-    CHECK((A - rate).cwiseAbs().maxCoeff() < 1e-4 * (1.0 + A.cwiseAbs().maxCoeff()));
+    REQUIRE_NEAR(A, rate, 1e-4 * (1.0 + A.cwiseAbs().maxCoeff()));
   }
 }
 
-TEST_CASE("57.5.3 inekfA: the navigation block is constant, the bias block is not", "[ex57.5.3]") {
+TEST_CASE("57.5.3 inekfA: the navigation block is constant, the bias block is not",
+          "[ex57.5.3][hint 2]") {
   std::mt19937 gen(3);
   Eigen::Matrix<double, 9, 9> A_t = Eigen::Matrix<double, 9, 9>::Zero();
   A_t.block<3, 3>(3, 0) << 0.0, 9.81, 0.0, -9.81, 0.0, 0.0, 0.0, 0.0, 0.0;  // [g]_x
@@ -118,32 +123,34 @@ TEST_CASE("57.5.3 inekfA: the navigation block is constant, the bias block is no
   for (int trial = 0; trial < 20; ++trial) {
     const NavState x1 = randomState(gen), x2 = randomState(gen);
     const Matrix15 A1 = ex57_5_3::inekfA(x1, kGravity), A2 = ex57_5_3::inekfA(x2, kGravity);
-    CHECK((A1.topLeftCorner<9, 9>() - A_t).cwiseAbs().maxCoeff() < 1e-12);
-    CHECK((A2.topLeftCorner<9, 9>() - A_t).cwiseAbs().maxCoeff() < 1e-12);
-    CHECK((A1.topRightCorner<9, 6>() - A2.topRightCorner<9, 6>()).norm() > 0.1);
-    CHECK(A1.bottomRows<6>().norm() == 0.0);
+    const Eigen::Matrix<double, 9, 9> A1_nav = A1.topLeftCorner<9, 9>();
+    const Eigen::Matrix<double, 9, 9> A2_nav = A2.topLeftCorner<9, 9>();
+    REQUIRE_NEAR(A1_nav, A_t, 1e-12);
+    REQUIRE_NEAR(A2_nav, A_t, 1e-12);
+    REQUIRE_ABOVE((A1.topRightCorner<9, 6>() - A2.topRightCorner<9, 6>()).norm(), 0.1);
+    REQUIRE(A1.bottomRows<6>().norm() == 0.0);
   }
 }
 
 TEST_CASE("57.5.3 countBlocks on matrices made by hand", "[ex57.5.3]") {
   const Matrix15 Z = Matrix15::Zero(), I = Matrix15::Identity();
   BlockCount c = ex57_5_3::countBlocks(Z, Z);
-  CHECK(c.nonzero == 0);
-  CHECK(c.estimate_dependent == 0);
+  REQUIRE(c.nonzero == 0);
+  REQUIRE(c.estimate_dependent == 0);
   c = ex57_5_3::countBlocks(I, I);
-  CHECK(c.nonzero == 5);
-  CHECK(c.estimate_dependent == 0);
+  REQUIRE(c.nonzero == 5);
+  REQUIRE(c.estimate_dependent == 0);
   Matrix15 J = I;
   J(4, 13) = 2.0;  // block (1, 4) appears at the second estimate only
   J(0, 0) = 3.0;   // block (0, 0) changes
   c = ex57_5_3::countBlocks(I, J);
-  CHECK(c.nonzero == 6);
-  CHECK(c.estimate_dependent == 2);
+  REQUIRE(c.nonzero == 6);
+  REQUIRE(c.estimate_dependent == 2);
   Matrix15 tiny = I;
   tiny(7, 2) = 1e-14;  // below the tolerance: neither non-zero nor a change
   c = ex57_5_3::countBlocks(I, tiny);
-  CHECK(c.nonzero == 5);
-  CHECK(c.estimate_dependent == 0);
+  REQUIRE(c.nonzero == 5);
+  REQUIRE(c.estimate_dependent == 0);
 }
 
 TEST_CASE("57.5.3 what each Jacobian depends on, block by block", "[ex57.5.3]") {
@@ -155,14 +162,14 @@ TEST_CASE("57.5.3 what each Jacobian depends on, block by block", "[ex57.5.3]") 
   // ESKF: 5 non-zero blocks, 3 of them move with the estimate (attitude-attitude through b_g,
   // velocity-attitude through R and b_a, velocity-accel-bias through R).
   const BlockCount eskf = ex57_5_3::countBlocks(F1, F2);
-  CHECK(eskf.nonzero == 5);
-  CHECK(eskf.estimate_dependent == 3);
+  REQUIRE(eskf.nonzero == 5);
+  REQUIRE(eskf.estimate_dependent == 3);
   // Imperfect InEKF: 6 non-zero blocks, the 4 bias couplings move with the estimate...
   const BlockCount inekf = ex57_5_3::countBlocks(A1, A2);
-  CHECK(inekf.nonzero == 6);
-  CHECK(inekf.estimate_dependent == 4);
+  REQUIRE(inekf.nonzero == 6);
+  REQUIRE(inekf.estimate_dependent == 4);
   // ...but on the navigation block (without the bias columns) the ESKF keeps 2 estimate-dependent
   // blocks and the InEKF none: that is the "autonomous error" of the section.
-  CHECK(ex57_5_3::countBlocks(zeroBiasColumns(F1), zeroBiasColumns(F2)).estimate_dependent == 2);
-  CHECK(ex57_5_3::countBlocks(zeroBiasColumns(A1), zeroBiasColumns(A2)).estimate_dependent == 0);
+  REQUIRE(ex57_5_3::countBlocks(zeroBiasColumns(F1), zeroBiasColumns(F2)).estimate_dependent == 2);
+  REQUIRE(ex57_5_3::countBlocks(zeroBiasColumns(A1), zeroBiasColumns(A2)).estimate_dependent == 0);
 }
