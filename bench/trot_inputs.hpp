@@ -27,15 +27,10 @@ inline const TrotInputs& trotInputs() {
     sim::SimOptions options;
     options.duration = 10.0;
     const io::Log log = sim::simulate(options).log;
-    const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
     TrotInputs result;
     const io::LogRow& first = log.rows.front();
     result.x0 = {first.t, first.gt_q, first.gt_v, first.gt_p};
-    result.steps.reserve(log.rows.size());
-    for (std::size_t k = 0; k < log.rows.size(); ++k) {
-      const double dt = k == 0 ? 0.0 : log.rows[k].t - log.rows[k - 1].t;
-      result.steps.push_back(frontend.input(log.rows[k], dt));
-    }
+    result.steps = LogFrontend(log.layout, model::QuadrupedKinematics()).inputs(log);
     return result;
   }();
   return inputs;

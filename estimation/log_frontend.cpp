@@ -43,4 +43,13 @@ StepInput LogFrontend::input(const io::LogRow& row, double dt) const {
   return in;
 }
 
+std::vector<StepInput> LogFrontend::inputs(const io::Log& log) const {
+  std::vector<StepInput> result;
+  result.reserve(log.rows.size());
+  for (std::size_t k = 0; k < log.rows.size(); ++k) {
+    result.push_back(input(log.rows[k], k == 0 ? 0.0 : log.rows[k].t - log.rows[k - 1].t));
+  }
+  return result;
+}
+
 }  // namespace legkit

@@ -8,6 +8,8 @@
 // contacts (contact detection, section 57.6, will fill that gap).
 #pragma once
 
+#include <vector>
+
 #include "estimation/step_input.hpp"
 #include "io/log.hpp"
 #include "model/quadruped.hpp"
@@ -26,6 +28,9 @@ class LogFrontend {
 
   // The input of row k of a log (dt measured from row k-1, 0 for k = 0).
   StepInput input(const io::LogRow& row, double dt) const;
+  // Every row of `log` as an input, dt measured between rows (for tests and benchmarks that
+  // replay a log with the conversion kept out of what they measure).
+  std::vector<StepInput> inputs(const io::Log& log) const;
 
  private:
   io::LogLayout layout_;

@@ -31,12 +31,8 @@ const Trot& trot() {
     sim::SimOptions options;
     options.duration = 3.0;
     const io::Log log = sim::simulate(options).log;
-    const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
     Trot r;
-    for (std::size_t k = 0; k < log.rows.size(); ++k) {
-      const double dt = k == 0 ? 0.0 : log.rows[k].t - log.rows[k - 1].t;
-      r.inputs.push_back(frontend.input(log.rows[k], dt));
-    }
+    r.inputs = LogFrontend(log.layout, model::QuadrupedKinematics()).inputs(log);
     const io::LogRow& first = log.rows.front();
     r.x0 = {first.t, first.gt_q, first.gt_v, first.gt_p};
     return r;
@@ -141,12 +137,11 @@ TEST_CASE("contract: an IMU sample beyond the sensor's range is not used", "[est
     Eigen::Vector3d w_m, a_m;
     Fault fault;
   };
-  const Spike spikes[] = {{"gyro 1e100", Eigen::Vector3d(1e100, 0, 0), Eigen::Vector3d::Zero(),
-                           Fault::kGyroRange},
-                          {"gyro 1e30", Eigen::Vector3d(0, 1e30, 0), Eigen::Vector3d::Zero(),
-                           Fault::kGyroRange},
-                          {"accelerometer 1e10", Eigen::Vector3d::Zero(),
-                           Eigen::Vector3d(0, 0, 1e10), Fault::kAccelRange}};
+  const Spike spikes[] = {
+      {"gyro 1e100", Eigen::Vector3d(1e100, 0, 0), Eigen::Vector3d::Zero(), Fault::kGyroRange},
+      {"gyro 1e30", Eigen::Vector3d(0, 1e30, 0), Eigen::Vector3d::Zero(), Fault::kGyroRange},
+      {"accelerometer 1e10", Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, 1e10),
+       Fault::kAccelRange}};
   for (const std::string& name : estimatorNames()) {
     const std::unique_ptr<Estimator> clean = fresh(name);
     run(*clean, inputs, inputs.size());
@@ -205,8 +200,7 @@ TEST_CASE("contract: a large but admitted variance is survived", "[estimator]") 
   }
 }
 
-TEST_CASE("contract: a step of 1e-12 s and a variance of 1e-30 m^2 are survived",
-          "[estimator]") {
+TEST_CASE("contract: a step of 1e-12 s and a variance of 1e-30 m^2 are survived", "[estimator]") {
   const std::vector<StepInput>& inputs = trot().inputs;
   std::vector<StepInput> tiny = inputs;  // sample 1500 again, 1e-12 s later
   StepInput again = tiny[1500];
@@ -242,7 +236,7 @@ TEST_CASE("contract: input no caller can mean throws and changes nothing", "[est
     bad[2].dt = -1e-3;
     bad[3].t = nan;
     bad[4].contacts[0].foot = leg_odometry::kMaxContacts;  // beyond every estimator's feet
-    bad[5].contacts[0].cov(0, 1) = 1.0;  // not symmetric
+    bad[5].contacts[0].cov(0, 1) = 1.0;                    // not symmetric
     bad[6].contacts[0].p_body.y() = nan;
     for (std::size_t k = 0; k < bad.size(); ++k) {
       INFO(name << ", case " << k);
@@ -253,8 +247,7 @@ TEST_CASE("contract: input no caller can mean throws and changes nothing", "[est
   }
 }
 
-TEST_CASE("contract: a state that is no longer physical is recovered, never NaN",
-          "[estimator]") {
+TEST_CASE("contract: a state that is no longer physical is recovered, never NaN", "[estimator]") {
   // 1 s at 15 g along x without a foot down: every estimator integrates a speed far beyond
   // InputLimits::speed_max and must fall back to its last good state.
   const InputLimits limits;

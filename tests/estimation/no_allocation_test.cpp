@@ -68,12 +68,8 @@ Inputs scenario(const std::string& name, double duration) {
   options.scenario = sim::scenarioByName(name);
   options.duration = duration;
   const io::Log log = sim::simulate(options).log;
-  const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
   Inputs r;
-  for (std::size_t k = 0; k < log.rows.size(); ++k) {
-    const double dt = k == 0 ? 0.0 : log.rows[k].t - log.rows[k - 1].t;
-    r.steps.push_back(frontend.input(log.rows[k], dt));
-  }
+  r.steps = LogFrontend(log.layout, model::QuadrupedKinematics()).inputs(log);
   const io::LogRow& first = log.rows.front();
   r.x0 = {first.t, first.gt_q, first.gt_v, first.gt_p};
   return r;
