@@ -1,11 +1,8 @@
 #include "eval/monte_carlo.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstdio>
 #include <exception>
 #include <limits>
 #include <mutex>
@@ -20,16 +17,6 @@
 namespace legkit::eval {
 
 namespace {
-
-// "[#########           ] 9/20 runs" redrawn in place on a terminal.
-void drawProgress(int done, int total) {
-  constexpr int width = 30;
-  const int filled = done * width / total;
-  std::fprintf(stderr, "\r[%s%s] %d/%d runs", std::string(filled, '#').c_str(),
-               std::string(width - filled, ' ').c_str(), done, total);
-  if (done == total) std::fprintf(stderr, "\n");
-  std::fflush(stderr);
-}
 
 Eigen::Vector3d normal3(std::mt19937& rng, double sigma) {
   std::normal_distribution<double> n(0.0, sigma);
@@ -52,10 +39,10 @@ std::vector<MonteCarloEstimate> monteCarlo(const MonteCarloOptions& options,
   std::vector<std::vector<Metrics>> metrics(M, std::vector<Metrics>(E));
   std::vector<double> times;
 
-  std::atomic<int> next{0}, done{0};
-  std::mutex mutex;  // guards first_error, times and the progress bar
+  std::atomic<int> next{0};
+  std::mutex mutex;  // guards first_error, times and done
+  int done = 0;      // runs finished, for on_progress
   std::exception_ptr first_error;
-  const bool progress = options.progress && isatty(fileno(stderr));
   const FrontendNoise noise = options.frontend_noise.value_or(matchedFrontendNoise(options.sim));
   auto worker = [&] {
     for (int j = next++; j < M; j = next++) {
@@ -100,10 +87,9 @@ std::vector<MonteCarloEstimate> monteCarlo(const MonteCarloOptions& options,
         const std::lock_guard<std::mutex> lock(mutex);
         if (!first_error) first_error = std::current_exception();
       }
-      const int finished = ++done;
-      if (progress) {
-        const std::lock_guard<std::mutex> lock(mutex);
-        drawProgress(finished, M);
+      if (options.on_progress) {
+        const std::lock_guard<std::mutex> lock(mutex);  // done counted under the lock: 1, 2, .. M
+        options.on_progress(++done, M);
       }
     }
   };

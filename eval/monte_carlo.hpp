@@ -56,7 +56,10 @@ struct MonteCarloOptions {
   int runs = 20;            // M
   unsigned first_seed = 1;  // run j uses seed first_seed + j
   int threads = 0;          // 0: every hardware thread
-  bool progress = false;    // draw a progress bar on stderr (only when stderr is a terminal)
+  // Called after each run finishes (whether it succeeded or not) with the number of runs done
+  // so far and M, never from two threads at once, with done rising from 1 to M: for a study's
+  // progress line (tools/legkit/output.hpp).
+  std::function<void(int done, int total)> on_progress;
   // The initial state of run j from its log (default: the log's ground truth at row 0). The
   // convergence study uses it to start the filters away from the truth.
   std::function<EstimateSample(const io::Log&, int run)> initial_state;

@@ -225,3 +225,79 @@ TEST_CASE("cli: a run whose filters had to recover exits 3 and says which", "[cl
   CHECK_THAT(slurp(dir.path / "out" / "summary.json"),
              Catch::Matchers::Contains("\"exit_status\": 3"));
 }
+
+namespace {
+
+// Data rows of a CSV file (lines that are neither comments nor its header).
+int dataRows(const fs::path& path) {
+  std::ifstream f(path);
+  int rows = 0;
+  for (std::string line; std::getline(f, line);) rows += !line.empty() && line[0] != '#';
+  return rows - 1;
+}
+
+}  // namespace
+
+TEST_CASE("cli: --estimate-rate thins the estimate files, never the metrics", "[cli]") {
+  const Folder dir("rate");
+  // 2 s at 1 kHz: 2000 rows in the log, t = 0 .. 1.999.
+  Result r = runLegkit(dir.path, {"run", "--duration", "2", "--no-plots", "--out", "thin"});
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("estimates at 100 Hz"));
+  r = runLegkit(dir.path, {"run", "--duration", "2", "--no-plots", "--out", "all",
+                           "--estimate-rate", "all", "--json"});
+  REQUIRE(r.status == 0);
+  const int log_rows = dataRows(dir.path / "all" / "log.csv");
+  CHECK(log_rows == 2000);
+  for (const char* name : {"eskf", "imu-dead-reckoning", "linear-kf"}) {
+    const std::string file = std::string("estimate_") + name + ".csv";
+    CHECK(dataRows(dir.path / "all" / file) == log_rows);
+    CHECK(dataRows(dir.path / "thin" / file) == 201);  // t = 0, 0.01, .. 1.99 and 1.999
+  }
+  // The metrics come from every sample, whatever the files keep (us_per_step is wall time).
+  const auto metrics = [](const std::string& summary) {
+    std::istringstream lines(summary);
+    std::string kept;
+    for (std::string line; std::getline(lines, line);) {
+      if (line.find("rmse") != std::string::npos || line.find("drift") != std::string::npos)
+        kept += line + '\n';
+    }
+    return kept;
+  };
+  REQUIRE_THAT(metrics(slurp(dir.path / "all" / "summary.json")),
+               Catch::Matchers::Contains("\"position_rmse_m\""));
+  CHECK(metrics(slurp(dir.path / "thin" / "summary.json")) ==
+        metrics(slurp(dir.path / "all" / "summary.json")));
+  CHECK_THAT(slurp(dir.path / "all" / "summary.json"),
+             Catch::Matchers::Contains("\"estimate_rate_hz\": \"all\""));
+
+  CHECK(runLegkit(dir.path, {"run", "--estimate-rate", "-1", "--out", "x"}).status == 1);
+  CHECK(runLegkit(dir.path, {"run", "--estimate-rate", "fast", "--out", "x"}).status == 1);
+  CHECK_FALSE(fs::exists(dir.path / "x"));
+  CHECK_THAT(runLegkit(dir.path, {"run", "--help"}).output,
+             Catch::Matchers::Contains("--estimate-rate"));
+}
+
+TEST_CASE("cli: a study shows its progress, and only outside its results", "[cli]") {
+  const Folder dir("progress");
+  const Result r = runLegkit(dir.path, {"study", "consistency", "--runs", "2", "--duration", "0.5",
+                                        "--threads", "1", "--no-plots", "--out", "out"});
+  REQUIRE(r.status == 0);
+  INFO(r.output);
+  // Not a terminal: plain lines, one per run here, before the table.
+  CHECK_THAT(r.output, Catch::Matchers::StartsWith("consistency: run 1/2\nconsistency: run 2/2\n"));
+  CHECK(r.output.find('\r') == std::string::npos);
+  CHECK_THAT(slurp(dir.path / "out" / "consistency.csv"), !Catch::Matchers::Contains("run "));
+}
+
+TEST_CASE("cli: sim --foot-columns says the feet replace the joints, and they do", "[cli]") {
+  const Folder dir("feet");
+  CHECK_THAT(runLegkit(dir.path, {"sim", "--help"}).output,
+             Catch::Matchers::Contains("instead of joint columns"));
+  REQUIRE(runLegkit(dir.path,
+                    {"sim", "--duration", "0.1", "--foot-columns", "diagonal", "--out", "feet.csv"})
+              .status == 0);
+  const legkit::io::Log log = legkit::io::readLog((dir.path / "feet.csv").string());
+  CHECK(log.layout.foot_columns == legkit::io::FootCovariance::kDiagonal);
+  CHECK_FALSE(log.layout.joints);
+}

@@ -1,13 +1,15 @@
 // The output helpers of the legkit commands (tools/legkit/output.hpp): a write that fails is an
-// error naming the file, a half-written file never carries the final name, and external programs
-// get their arguments without a shell.
+// error naming the file, a half-written file never carries the final name, external programs
+// get their arguments without a shell, tables keep their columns apart, progress stays readable.
 #include <unistd.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "output.hpp"
 
@@ -93,4 +95,52 @@ TEST_CASE("output: a failing plot script is reported with what it said", "[cli]"
   CHECK_THAT(message, Catch::Matchers::StartsWith("plots FAILED: no-such-script.py exited"));
   CHECK_THAT(message, Catch::Matchers::Contains("No such file"));
   CHECK_THAT(message, !Catch::Matchers::Contains("matplotlib"));
+}
+
+TEST_CASE("output: a table's columns never run together", "[cli]") {
+  std::ostringstream out;
+  printTable(out, {{"parameter", "scale", "vel bias [m/s]", "vel variance [m2/s2]"},
+                   {"accelerometer noise", "0.001", "0.0123", "0.000456"},
+                   {"short", "1000.000"}});
+  const std::string text = out.str();
+  INFO(text);
+  // The header that filled its old fixed width exactly is still apart from its neighbour.
+  CHECK_THAT(text, Catch::Matchers::Contains("vel bias [m/s]  vel variance [m2/s2]\n"));
+  // "parameter" padded to "accelerometer noise", two spaces, "scale" padded to "1000.000".
+  CHECK_THAT(text,
+             Catch::Matchers::StartsWith("parameter" + std::string(10 + 2 + 3, ' ') + "scale"));
+  std::istringstream lines(text);
+  std::vector<std::string> line(3);
+  for (std::string& l : line) std::getline(lines, l);
+  // Numbers right-aligned under their headers; the first column left-aligned; no trailing blanks.
+  CHECK(line[1].size() == line[0].size());
+  CHECK(line[0].find("scale") + 5 == line[1].find("0.001") + 5);
+  CHECK(line[2] == "short                1000.000");
+}
+
+TEST_CASE("output: progress redrawn in place on a terminal, plain lines elsewhere", "[cli]") {
+  std::ostringstream terminal;
+  {
+    Progress p(terminal, true);
+    p.run("consistency", 9, 12);
+    p.run("consistency", 10, 12);
+    p.run("c", 1, 2);  // a shorter line blanks out the rest of the longer one
+  }                    // the destructor wipes the line
+  CHECK(terminal.str() == "\rconsistency: run 9/12\rconsistency: run 10/12\rc: run 1/2" +
+                              std::string(12, ' ') + "\r" + std::string(10, ' ') + "\r");
+
+  std::ostringstream file;
+  Progress p(file, false);
+  for (int done = 1; done <= 40; ++done) p.run("consistency", done, 40);
+  p.clear();
+  const std::string text = file.str();
+  INFO(text);
+  CHECK(text.find('\r') == std::string::npos);
+  CHECK(std::count(text.begin(), text.end(), '\n') == 10);  // each tenth of 40 runs
+  CHECK_THAT(text, Catch::Matchers::StartsWith("consistency: run 4/40\n"));
+  CHECK_THAT(text, Catch::Matchers::EndsWith("consistency: run 40/40\n"));
+  std::ostringstream few;
+  Progress q(few, false);
+  for (int done = 1; done <= 3; ++done) q.run("sweep", done, 3);
+  CHECK(few.str() == "sweep: run 1/3\nsweep: run 2/3\nsweep: run 3/3\n");
 }

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cstring>
@@ -60,6 +61,38 @@ void makeOutputFolder(const fs::path& dir) {
     throw OutputError("cannot use " + dir.string() + " as the output folder" +
                       (error ? ": " + error.message() : ": it is not a folder"));
   }
+}
+
+void printTable(std::ostream& out, const std::vector<std::vector<std::string>>& rows) {
+  std::vector<std::size_t> width;
+  for (const std::vector<std::string>& row : rows) {
+    if (row.size() > width.size()) width.resize(row.size(), 0);
+    for (std::size_t i = 0; i < row.size(); ++i) width[i] = std::max(width[i], row[i].size());
+  }
+  for (const std::vector<std::string>& row : rows) {
+    std::string line;
+    for (std::size_t i = 0; i < row.size(); ++i) {
+      const std::string pad(width[i] - row[i].size(), ' ');
+      line += i == 0 ? row[i] + pad : "  " + pad + row[i];
+    }
+    out << line.substr(0, line.find_last_not_of(' ') + 1) << '\n';
+  }
+}
+
+void Progress::run(const std::string& what, int done, int total) {
+  const std::string text = what + ": run " + std::to_string(done) + "/" + std::to_string(total);
+  if (in_place_) {
+    err_ << '\r' << text << std::string(drawn_ > text.size() ? drawn_ - text.size() : 0, ' ');
+    drawn_ = text.size();
+  } else if (done == total || done * 10 / total != (done - 1) * 10 / total) {
+    err_ << text << '\n';
+  }
+  err_.flush();
+}
+
+void Progress::clear() {
+  if (in_place_ && drawn_ > 0) err_ << '\r' << std::string(drawn_, ' ') << '\r' << std::flush;
+  drawn_ = 0;
 }
 
 ProgramResult runProgram(const std::vector<std::string>& argv) {

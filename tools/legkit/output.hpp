@@ -49,6 +49,30 @@ void writeAtomically(const std::filesystem::path& path,
 // Creates the folder (and its parents) for a command's outputs, or throws OutputError.
 void makeOutputFolder(const std::filesystem::path& dir);
 
+// A text table: each column as wide as its widest cell, columns two spaces apart, the first
+// left-aligned and the others right-aligned (numbers). Rows may have fewer cells than others.
+void printTable(std::ostream& out, const std::vector<std::vector<std::string>>& rows);
+
+// A study's progress on standard error, never in its results: "consistency: run 3/12", redrawn in
+// place when it goes to a terminal (in_place), else as plain lines, at most about ten per batch
+// of runs (each tenth and the last) so that a log file stays readable.
+class Progress {
+ public:
+  Progress(std::ostream& err, bool in_place) : err_(err), in_place_(in_place) {}
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+  ~Progress() { clear(); }  // also when a run fails: its message then starts on a clean line
+  // "<what>: run done/total"
+  void run(const std::string& what, int done, int total);
+  // Wipes the line drawn in place (nothing for plain lines), before the results are printed.
+  void clear();
+
+ private:
+  std::ostream& err_;
+  bool in_place_;
+  std::size_t drawn_ = 0;  // length of the line drawn in place
+};
+
 // Runs argv[0] with the arguments argv[1..] directly (posix_spawn, no shell: nothing in an
 // argument is ever interpreted), its standard output discarded.
 struct ProgramResult {

@@ -29,10 +29,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// One row per log row: the estimate and, for a filter, its standard deviations in the
-// BaseCovariance convention (sigma_theta*, sigma_v*, sigma_p*) and its NEES. A comment line gives
-// the NEES degrees of freedom and its single-run 95 % bounds for the plots.
-void writeEstimates(std::ostream& f, const eval::RunResult& run) {
+// One row per kept row (estimateRows): the estimate and, for a filter, its standard deviations in
+// the BaseCovariance convention (sigma_theta*, sigma_v*, sigma_p*) and its NEES. A comment line
+// gives the NEES degrees of freedom and its single-run 95 % bounds for the plots.
+void writeEstimates(std::ostream& f, const eval::RunResult& run, double rate) {
   const bool filter = !run.sigma.empty();
   const bool nees = !run.nees.empty();
   if (nees) {
@@ -45,7 +45,7 @@ void writeEstimates(std::ostream& f, const eval::RunResult& run) {
   }
   if (nees) f << ",nees";
   f << '\n';
-  for (std::size_t k = 0; k < run.trajectory.size(); ++k) {
+  for (const std::size_t k : estimateRows(run.trajectory, rate)) {
     const EstimateSample& e = run.trajectory[k];
     f << e.t << ',' << e.p.x() << ',' << e.p.y() << ',' << e.p.z() << ',' << e.q.w() << ','
       << e.q.x() << ',' << e.q.y() << ',' << e.q.z() << ',' << e.v.x() << ',' << e.v.y() << ','
@@ -56,6 +56,30 @@ void writeEstimates(std::ostream& f, const eval::RunResult& run) {
     if (nees) f << ',' << run.nees[k];
     f << '\n';
   }
+}
+
+// "all" or a rate >= 0 [Hz] ("0" also means every sample).
+std::string parseEstimateRate(const std::string& text, double& rate) {
+  if (text == "all") {
+    rate = 0.0;
+    return "";
+  }
+  std::size_t used = 0;
+  try {
+    rate = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || !std::isfinite(rate) || rate < 0.0) {
+    return "expected a rate in Hz (>= 0) or 'all', got '" + text + "'";
+  }
+  return "";
+}
+
+std::string number(double value) {
+  std::ostringstream os;
+  os << value;
+  return os.str();
 }
 
 std::string cell(double value, int precision) {
@@ -147,6 +171,22 @@ void removeStaleOutputs(const fs::path& dir) {
 
 }  // namespace
 
+std::vector<std::size_t> estimateRows(const std::vector<EstimateSample>& trajectory, double rate) {
+  std::vector<std::size_t> rows;
+  if (trajectory.empty()) return rows;
+  const double t0 = trajectory.front().t;
+  // The period a row falls in; a part per million of a period absorbs timestamps printed as
+  // 0.0099999999 for 0.01.
+  const auto period = [&](double t) { return std::floor((t - t0) * rate + 1e-6); };
+  for (std::size_t k = 0; k < trajectory.size(); ++k) {
+    if (rate <= 0.0 || k == 0 || k + 1 == trajectory.size() ||
+        period(trajectory[k].t) > period(trajectory[rows.back()].t)) {
+      rows.push_back(k);
+    }
+  }
+  return rows;
+}
+
 void printRunTable(std::ostream& out, const std::vector<RunRow>& rows) {
   const char* header[] = {"estimator",        "pos RMSE [m]", "vel RMSE [m/s]", "drift [%]",
                           "roll/pitch [deg]", "yaw [deg]",    "ANEES",          "us/step"};
@@ -204,6 +244,15 @@ RunCommand::RunCommand(CLI::App& app)
                "Longest step allowed between samples of --log [s] (default 10 median periods)")
       ->check(CLI::PositiveNumber);
   c.add_option("--out", out_dir_, "Output folder (default legkit-out/<scenario>-seed<seed>)");
+  c.add_option_function<std::string>(
+       "--estimate-rate",
+       [this](const std::string& text) {
+         const std::string error = parseEstimateRate(text, estimate_rate_);
+         if (!error.empty()) throw CLI::ValidationError("--estimate-rate", error);
+       },
+       "Rate of the estimate_*.csv files [Hz] (default 100); 0 or 'all': every sample. The "
+       "metrics always use every sample")
+      ->type_name("HZ|all");
   c.add_flag("--json", json_, "Print the summary as JSON (one object per estimator)");
   c.add_flag("!--no-plots", plots_, "Do not draw the PNG plots");
 }
@@ -250,7 +299,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
     if (log.layout.ground_truth && !r.run.failed())
       r.metrics = eval::compare(log, r.run.trajectory);
     writeAtomically(dir / ("estimate_" + r.run.name + ".csv"),
-                    [&](std::ostream& f) { writeEstimates(f, r.run); });
+                    [&](std::ostream& f) { writeEstimates(f, r.run, estimate_rate_); });
     rows.push_back(std::move(r));
   }
   bool all_ok = true;
@@ -259,15 +308,18 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
 
   std::string plot_failure;  // empty: drawn (or not asked for)
   if (plots_) plot_failure = plot("run_plots.py", {dir.string(), "--log", log_path.string()});
-  nlohmann::json summary = {{"legkit_version", LEGKIT_VERSION},
-                            {"command", command_line},
-                            {"source", source},
-                            {"samples", log.rows.size()},
-                            {"exit_status", status},
-                            {"plots", !plots_                ? "not drawn (--no-plots)"
-                                      : plot_failure.empty() ? "drawn"
-                                                             : plot_failure},
-                            {"estimators", toJson(rows)}};
+  nlohmann::json summary = {
+      {"legkit_version", LEGKIT_VERSION},
+      {"command", command_line},
+      {"source", source},
+      {"samples", log.rows.size()},
+      {"estimate_rate_hz",
+       estimate_rate_ > 0.0 ? nlohmann::json(estimate_rate_) : nlohmann::json("all")},
+      {"exit_status", status},
+      {"plots", !plots_                ? "not drawn (--no-plots)"
+                : plot_failure.empty() ? "drawn"
+                                       : plot_failure},
+      {"estimators", toJson(rows)}};
   writeAtomically(dir / "summary.json", [&](std::ostream& f) { f << summary.dump(2) << '\n'; });
 
   if (json_) {
@@ -278,7 +330,8 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
     out << "\nANEES: the mean over the run of NEES / its degrees of freedom (9, or 6 for the "
            "linear KF, whose attitude is an input); about 1 for a consistent filter.\n";
     if (!log.layout.ground_truth) out << "\n(the log has no ground truth: errors not computed)\n";
-    out << "\nwrote " << dir.string() << "/ (" << (log_.empty() ? "log, " : "") << "estimates"
+    out << "\nwrote " << dir.string() << "/ (" << (log_.empty() ? "log, " : "") << "estimates "
+        << (estimate_rate_ > 0.0 ? "at " + number(estimate_rate_) + " Hz" : "at every sample")
         << (plots_ && plot_failure.empty() ? ", plots" : "") << ", summary.json)\n";
   }
   if (!plot_failure.empty()) std::cerr << "legkit run: " << plot_failure << '\n';

@@ -24,6 +24,11 @@ struct RunRow {
   std::optional<eval::Metrics> metrics;
 };
 
+// The rows of a trajectory that an estimate file at `rate` [Hz] keeps (rate 0: every row): the
+// first row, then the first row of each new period 1/rate counted from the first row's time, and
+// the last row. Only the files are thinned; the metrics use every row.
+std::vector<std::size_t> estimateRows(const std::vector<EstimateSample>& trajectory, double rate);
+
 // The table of `legkit run`: one line per estimator (FAILED for a run that stopped), then under it
 // each failure with its file:line, time and reason, and each estimator's non-zero health counts.
 void printRunTable(std::ostream& out, const std::vector<RunRow>& rows);
@@ -46,6 +51,7 @@ class RunCommand {
   std::string log_;
   double max_gap_ = 0.0;  // 0: 10 median periods
   std::string out_dir_;
+  double estimate_rate_ = 100.0;  // [Hz] of the estimate files; 0: every sample
   bool json_ = false;
   bool plots_ = true;
 };

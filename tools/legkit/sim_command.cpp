@@ -54,7 +54,8 @@ SimCommand::SimCommand(CLI::App& app)
   c.add_flag("--no-ground-truth", no_ground_truth_, "Leave out the gt_ columns");
   c.add_option(
        "--foot-columns", foot_columns_,
-       "Also write body-frame foot columns: none, diagonal (variances) or full (covariance)")
+       "Describe the legs by body-frame foot columns instead of joint columns: none (joints), "
+       "diagonal (feet with variances) or full (feet with covariances)")
       ->check(CLI::IsMember({"none", "diagonal", "full"}))
       ->capture_default_str();
   c.add_option("--slip-foot", slip_foot_, "Fault: this foot (FL, FR, RL, RR) slips in stance");

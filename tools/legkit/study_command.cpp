@@ -1,5 +1,7 @@
 #include "study_command.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -35,6 +37,11 @@ std::string fixed(double value, int precision) {
   std::ostringstream os;
   os << std::fixed << std::setprecision(precision) << value;
   return os.str();
+}
+
+// Progress on standard error: redrawn in place on a terminal, plain lines into a file or pipe.
+Progress stderrProgress() {
+  return Progress(std::cerr, isatty(fileno(stderr)) != 0);
 }
 
 }  // namespace
@@ -87,14 +94,16 @@ int StudyCommand::consistency(std::ostream& out) const {
   options.sim.duration = duration_ > 0 ? duration_ : 60.0;
   options.first_seed = seed_;
   options.threads = threads_;
-  options.progress = true;
   options.prior = eval::InitialPrior{};
+  Progress progress = stderrProgress();
+  options.on_progress = [&](int done, int total) { progress.run("consistency", done, total); };
   std::vector<eval::NamedEstimator> filters;
   filters.reserve(filterNames().size());
   for (const std::string& name : filterNames()) {
     filters.push_back({name, [name] { return makeEstimator(name); }});
   }
   const std::vector<eval::MonteCarloEstimate> result = eval::monteCarlo(options, filters);
+  progress.clear();
 
   std::ostringstream csv = newCsv();
   csv << "# runs " << options.runs << '\n' << "filter,dof,lower,upper,t,anees\n";
@@ -107,19 +116,18 @@ int StudyCommand::consistency(std::ostream& out) const {
   }
 
   out << "Consistency on the default trot: " << options.runs << " runs x " << options.sim.duration
-      << " s, initial errors and biases drawn from the filters' prior\n\n"
-      << std::left << std::setw(16) << "filter" << std::right << std::setw(5) << "dof"
-      << std::setw(14) << "ANEES/dof" << std::setw(22) << "95 % bounds / dof" << std::setw(12)
-      << "inside [%]" << std::setw(14) << "pos RMSE [m]" << '\n';
+      << " s, initial errors and biases drawn from the filters' prior\n\n";
+  std::vector<std::vector<std::string>> table = {
+      {"filter", "dof", "ANEES/dof", "95 % bounds / dof", "inside [%]", "pos RMSE [m]"}};
   for (const eval::MonteCarloEstimate& r : result) {
     double pos = 0.0;
     for (const eval::Metrics& m : r.runs) pos += m.position_rmse / r.runs.size();
-    out << std::left << std::setw(16) << r.name << std::right << std::setw(5) << r.dof
-        << std::setw(14) << fixed(r.mean_anees, 2) << std::setw(22)
-        << "[" + fixed(r.bounds.lower / r.dof, 2) + ", " + fixed(r.bounds.upper / r.dof, 2) + "]"
-        << std::setw(12) << fixed(100.0 * r.fraction_inside, 1) << std::setw(14) << fixed(pos, 3)
-        << '\n';
+    table.push_back(
+        {r.name, std::to_string(r.dof), fixed(r.mean_anees, 2),
+         "[" + fixed(r.bounds.lower / r.dof, 2) + ", " + fixed(r.bounds.upper / r.dof, 2) + "]",
+         fixed(100.0 * r.fraction_inside, 1), fixed(pos, 3)});
   }
+  printTable(out, table);
   out << "\n(ANEES/dof: the mean over time of ANEES_k / dof; inside: the share of samples k whose "
          "ANEES_k lies inside the bounds)\n";
   writeAtomically(dir / "consistency.csv", [&](std::ostream& f) { f << csv.str(); });
@@ -149,6 +157,7 @@ int StudyCommand::convergence(std::ostream& out) const {
       << "filter,angle_deg,runs,converged_fraction,median_time_s\n";
   // table[angle][filter] = (fraction, median time)
   std::vector<std::vector<std::pair<double, double>>> table(angles.size());
+  Progress progress = stderrProgress();
   for (std::size_t a = 0; a < angles.size(); ++a) {
     const double angle = angles[a] * M_PI / 180.0;
     eval::MonteCarloOptions options;
@@ -156,6 +165,8 @@ int StudyCommand::convergence(std::ostream& out) const {
     options.sim.duration = duration;
     options.first_seed = seed_;
     options.threads = threads_;
+    const std::string what = "convergence, " + fixed(angles[a], 0) + " deg";
+    options.on_progress = [&](int done, int total) { progress.run(what, done, total); };
     options.initial_state = [angle, this](const io::Log& log, int run) {
       std::mt19937 rng(seed_ * 7919u + static_cast<unsigned>(run));
       std::normal_distribution<double> n;
@@ -198,27 +209,25 @@ int StudyCommand::convergence(std::ostream& out) const {
       csv << names[e] << ',' << angles[a] << ',' << runs << ',' << fraction << ',' << median
           << '\n';
     }
-    out << "\r" << angles[a] << " deg done" << std::flush;
   }
-  out << "\r";
+  progress.clear();
 
   out << "Convergence from a wrong initial attitude (" << runs << " runs x " << duration
       << " s of trot per angle; converged: roll/pitch < 2 deg and body velocity < 0.1 m/s from t_c "
-         "on)\n\n"
-      << std::left << std::setw(10) << "angle";
-  for (const std::string& name : names) out << std::setw(26) << name;
-  out << "\n" << std::setw(10) << "[deg]";
-  for (std::size_t e = 0; e < names.size(); ++e) out << std::setw(26) << "converged, median t_c";
-  out << '\n';
-  for (std::size_t a = 0; a < angles.size(); ++a) {
-    out << std::setw(10) << angles[a];
-    for (const auto& [fraction, median] : table[a]) {
-      out << std::setw(26)
-          << fixed(100.0 * fraction, 0) + " %, " +
-                 (std::isnan(median) ? "-" : fixed(median, 2) + " s");
-    }
-    out << '\n';
+         "on)\n\n";
+  std::vector<std::vector<std::string>> rows = {{"angle"}, {"[deg]"}};
+  for (const std::string& name : names) {
+    rows[0].push_back(name);
+    rows[1].push_back("converged, median t_c");
   }
+  for (std::size_t a = 0; a < angles.size(); ++a) {
+    rows.push_back({fixed(angles[a], 0)});
+    for (const auto& [fraction, median] : table[a]) {
+      rows.back().push_back(fixed(100.0 * fraction, 0) + " %, " +
+                            (std::isnan(median) ? "-" : fixed(median, 2) + " s"));
+    }
+  }
+  printTable(out, rows);
   writeAtomically(dir / "convergence.csv", [&](std::ostream& f) { f << csv.str(); });
   plot(out, "convergence", dir.string());
   return 0;
@@ -238,11 +247,11 @@ int StudyCommand::sweep(std::ostream& out) const {
       << "parameter,scale,position_rmse,velocity_rmse,velocity_bias,velocity_variance,anees\n";
   const char* parameters[] = {"foot process noise", "accelerometer noise", "measurement noise"};
   out << "Linear KF parameter sweep (" << runs << " runs x " << duration << " s of trot each; "
-      << "velocity error split over a " << window << " s window)\n\n"
-      << std::left << std::setw(22) << "parameter" << std::right << std::setw(9) << "scale"
-      << std::setw(14) << "pos RMSE [m]" << std::setw(16) << "vel RMSE [m/s]" << std::setw(16)
-      << "vel bias [m/s]" << std::setw(20) << "vel variance [m2/s2]" << std::setw(11) << "ANEES/dof"
-      << '\n';
+      << "velocity error split over a " << window << " s window)\n\n";
+  std::vector<std::vector<std::string>> table = {{"parameter", "scale", "pos RMSE [m]",
+                                                  "vel RMSE [m/s]", "vel bias [m/s]",
+                                                  "vel variance [m2/s2]", "ANEES/dof"}};
+  Progress progress = stderrProgress();
   for (int p = 0; p < 3; ++p) {
     for (int i = -6; i <= 6; ++i) {
       const double scale = std::pow(10.0, 0.5 * i);
@@ -256,6 +265,8 @@ int StudyCommand::sweep(std::ostream& out) const {
       options.first_seed = seed_;
       options.threads = threads_;
       options.frontend_noise = scaledFrontendNoise(eval::matchedFrontendNoise(options.sim), scales);
+      const std::string what = std::string("sweep, ") + parameters[p] + " x " + fixed(scale, 3);
+      options.on_progress = [&](int done, int total) { progress.run(what, done, total); };
       double bias2 = 0.0, variance = 0.0;
       std::mutex mutex;
       options.on_run = [&](int, std::size_t, const io::Log& log, const eval::RunResult& run) {
@@ -274,12 +285,12 @@ int StudyCommand::sweep(std::ostream& out) const {
       const double bias = std::sqrt(bias2);
       csv << parameters[p] << ',' << scale << ',' << pos << ',' << vel << ',' << bias << ','
           << variance << ',' << r[0].mean_anees << '\n';
-      out << std::left << std::setw(22) << parameters[p] << std::right << std::setw(9)
-          << fixed(scale, 3) << std::setw(14) << fixed(pos, 4) << std::setw(16) << fixed(vel, 4)
-          << std::setw(16) << fixed(bias, 4) << std::setw(20) << fixed(variance, 6) << std::setw(11)
-          << fixed(r[0].mean_anees, 2) << '\n';
+      table.push_back({parameters[p], fixed(scale, 3), fixed(pos, 4), fixed(vel, 4), fixed(bias, 4),
+                       fixed(variance, 6), fixed(r[0].mean_anees, 2)});
     }
   }
+  progress.clear();
+  printTable(out, table);
   writeAtomically(dir / "sweep.csv", [&](std::ostream& f) { f << csv.str(); });
   plot(out, "sweep", dir.string());
   return 0;
