@@ -147,16 +147,18 @@ void requirePositive(double value, const char* what) {
   throw std::invalid_argument(os.str());
 }
 
-// Marginalises foot i out of the information Lambda (Schur complement of its 3 x 3 block), then
-// gives it the weak prior sigma: the foot forgets where it was and is uncorrelated with the rest.
-void reinitialiseFoot(Matrix27& Lambda, int i, double sigma) {
+// Marginalises foot i out of the information Lambda (Schur complement of its 3 x 3 block) and
+// leaves it with no information at all: the foot forgets where it was, and only the kinematics
+// residual of the touchdown step decides where it is now. (A weak prior on the new foot would be
+// information the robot does not have: its mean comes from the estimate, so each touchdown would
+// add a little to the unobservable position.)
+void forgetFoot(Matrix27& Lambda, int i) {
   const int f = footIndex(i);
   const Eigen::Matrix<double, kDim, 3> B = Lambda.middleCols<3>(f);
   const Eigen::LLT<Eigen::Matrix3d> llt(Lambda.block<3, 3>(f, f));
   Lambda.noalias() -= B * llt.solve(B.transpose());
   Lambda.middleRows<3>(f).setZero();
   Lambda.middleCols<3>(f).setZero();
-  Lambda.block<3, 3>(f, f) = Eigen::Matrix3d::Identity() / (sigma * sigma);
 }
 
 }  // namespace
@@ -219,14 +221,9 @@ void Tsif::step(const StepInput& raw) {
   const double dt = in.dt + pending_dt_;
   if (!has_previous_ || dt < kMinDt) {
     pending_dt_ = has_previous_ ? dt : 0.0;
-    // No pair to solve yet: only the feet that are down are placed, d = p + R p_body.
-    for (int i = 0; i < kFeet; ++i) {
-      if (contact[i] && !in_contact_[i]) {
-        reinitialiseFoot(Lambda_, i, params_.foot_init_sigma);
-        x_.d[i] = x_.p + x_.R * contact[i]->p_body;
-      }
-      in_contact_[i] = contact[i] != nullptr;
-    }
+    // No pair to solve yet. A foot that lifts off is out of contact; one that touches down is
+    // placed at the next solved step (a foot without information needs this step's residual).
+    for (int i = 0; i < kFeet; ++i) in_contact_[i] = in_contact_[i] && contact[i] != nullptr;
     finishStep(in, imu_admitted);
     return;
   }
@@ -246,11 +243,11 @@ void Tsif::step(const StepInput& raw) {
     x1.v = X1.col(0);
     x1.p = X1.col(1);
   }
-  // Touchdown: the foot is re-initialised from this sample's kinematics (in both states, the
-  // stance residual then ties them).
+  // Touchdown: the foot is forgotten and placed at this sample's kinematics (in both states; the
+  // stance residual ties them, the kinematics residual gives the foot all its information).
   for (int i = 0; i < kFeet; ++i) {
     if (!contact[i] || in_contact_[i]) continue;
-    reinitialiseFoot(Lambda0, i, params_.foot_init_sigma);
+    forgetFoot(Lambda0, i);
     x0.d[i] = x1.d[i] = x1.p + x1.R * contact[i]->p_body;
   }
   const State prior = x0;

@@ -278,6 +278,31 @@ TEST_CASE("TSIF: a noiseless trot is tracked", "[57.5][tsif]") {
   }
 }
 
+TEST_CASE("TSIF: a touchdown tells the filter nothing about the base", "[57.5][tsif]") {
+  // A foot that touches down is new: only its own kinematics place it, so the base's estimate
+  // and covariance after the step are those of the same step without the contact. (A prior on
+  // the new foot, however weak, would add information here; at eight touchdowns a second it
+  // made the filter over-confident in position over minutes.)
+  const io::Log log = trotLog(0.01, 2, false);
+  const std::vector<StepInput> inputs = inputsOf(log);
+  REQUIRE(inputs[1].num_contacts == 4);  // standing: every foot touches down at the first pair
+  StepInput without = inputs[1];
+  without.num_contacts = 0;
+  Tsif touchdown, flight;
+  for (Tsif* filter : {&touchdown, &flight}) {
+    filter->reset(eval::initialState(log));
+    filter->step(inputs[0]);
+  }
+  touchdown.step(inputs[1]);
+  flight.step(without);
+  for (int i = 0; i < tsif::kFeet; ++i) CHECK(touchdown.inContact(i));
+  const Eigen::Matrix<double, 9, 9> P = touchdown.covariance()->P;
+  const Eigen::Matrix<double, 9, 9> P_flight = flight.covariance()->P;
+  CHECK((P - P_flight).norm() < 1e-9 * P_flight.norm());
+  CHECK((touchdown.state().p - flight.state().p).norm() < 1e-12);
+  CHECK(touchdown.state().R.rminus(flight.state().R).norm() < 1e-12);
+}
+
 TEST_CASE("TSIF: step() never allocates", "[57.5][tsif]") {
   const io::Log log = trotLog(1.5, 8, false);
   const std::vector<StepInput> inputs = inputsOf(log);
