@@ -14,6 +14,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from palette import colour  # noqa: E402
+
 
 def rows(path):
     with open(path, newline="") as f:
@@ -28,10 +30,9 @@ def consistency(folder):
         d["a"].append(float(r["anees"]) / int(r["dof"]))
         d["dof"], d["lo"], d["hi"] = int(r["dof"]), float(r["lower"]), float(r["upper"])
     fig, ax = plt.subplots(figsize=(8, 4.5))
-    for i, (name, d) in enumerate(data.items()):
-        colour = f"C{i}"
-        ax.semilogy(d["t"], d["a"], color=colour, lw=0.8, label=f"{name} (dof {d['dof']})")
-        ax.axhspan(d["lo"] / d["dof"], d["hi"] / d["dof"], color=colour, alpha=0.08)
+    for name, d in data.items():
+        ax.semilogy(d["t"], d["a"], color=colour(name), lw=0.8, label=f"{name} (dof {d['dof']})")
+        ax.axhspan(d["lo"] / d["dof"], d["hi"] / d["dof"], color=colour(name), alpha=0.08)
     ax.axhline(1.0, color="k", lw=0.8)
     ax.set_xlabel("t [s]")
     ax.set_ylabel("ANEES / dof")
@@ -51,8 +52,8 @@ def convergence(folder):
         d["time"].append(float(r["median_time_s"]) if r["median_time_s"] != "nan" else float("nan"))
     fig, (af, at) = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
     for name, d in data.items():
-        af.plot(d["angle"], d["fraction"], "o-", ms=3, label=name)
-        at.plot(d["angle"], d["time"], "o-", ms=3, label=name)
+        af.plot(d["angle"], d["fraction"], "o-", ms=3, color=colour(name), label=name)
+        at.plot(d["angle"], d["time"], "o-", ms=3, color=colour(name), label=name)
     af.set_ylabel("runs converged [%]")
     at.set_ylabel("median time to converge [s]")
     at.set_xlabel("initial attitude error [deg]")
@@ -77,12 +78,14 @@ def sweep(folder):
         bias2 = [b * b for b in d["velocity_bias"]]
         total = [b + v for b, v in zip(bias2, d["velocity_variance"])]
         ax = axes[0][col]
-        ax.loglog(d["scale"], bias2, "o-", ms=3, label="bias$^2$ (slow part)")
-        ax.loglog(d["scale"], d["velocity_variance"], "s-", ms=3, label="variance (fast part)")
+        lkf = colour("linear-kf")  # every curve is the linear KF's: told apart by style
+        ax.loglog(d["scale"], bias2, "o-", ms=3, color=lkf, label="bias$^2$ (slow part)")
+        ax.loglog(d["scale"], d["velocity_variance"], "s:", ms=3, color=lkf,
+                  label="variance (fast part)")
         ax.loglog(d["scale"], total, "k--", lw=1, label="sum")
         ax.set_title(name, fontsize=9)
-        axes[1][col].loglog(d["scale"], d["position_rmse"], "o-", ms=3, color="C3")
-        axes[2][col].loglog(d["scale"], d["anees"], "o-", ms=3, color="C2")
+        axes[1][col].loglog(d["scale"], d["position_rmse"], "o-", ms=3, color=lkf)
+        axes[2][col].loglog(d["scale"], d["anees"], "o-", ms=3, color=lkf)
         axes[2][col].axhline(1.0, color="k", lw=0.8)
         axes[2][col].set_xlabel("variance scale (x nominal)")
         for row in range(3):
