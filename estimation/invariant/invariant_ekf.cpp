@@ -262,14 +262,17 @@ void InvariantEkf::propagateCovariance(const inekf::Transition& Phi, double dt) 
 }
 
 void InvariantEkf::correct(const StepInput& in) {
+  const Matrix3 R_predicted = X_.R();  // before this sample's correction
   withFeet(numFeet(), [&](auto feet) { correctHeldFeet<decltype(feet)::value>(in); });
   std::array<bool, inekf::kMaxFeet> stance{};
   for (const ContactMeasurement& c : in.stance()) stance[c.foot] = true;
   for (int foot = 0; foot < inekf::kMaxFeet; ++foot) {
     if (column_of_foot_[foot] >= 0 && !stance[foot]) removeFoot(foot);
   }
+  const bool predicted = params_.touchdown_attitude == inekf::TouchdownAttitude::kPredicted;
+  const Matrix3 R_touchdown = predicted ? R_predicted : X_.R();
   for (const ContactMeasurement& c : in.stance()) {
-    if (column_of_foot_[c.foot] < 0) addFoot(c);
+    if (column_of_foot_[c.foot] < 0) addFoot(c, R_touchdown);
   }
 }
 
@@ -333,8 +336,7 @@ void InvariantEkf::removeFoot(int foot) {
   }
 }
 
-void InvariantEkf::addFoot(const ContactMeasurement& c) {
-  const Matrix3& R = X_.R();
+void InvariantEkf::addFoot(const ContactMeasurement& c, const Matrix3& R) {
   const int col = static_cast<int>(X_.numCols());
   const int at = 3 + 3 * col;  // = the navigation dimension before the new column
   const int n = static_cast<int>(P_.rows());

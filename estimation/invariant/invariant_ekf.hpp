@@ -54,10 +54,14 @@
 // Contacts, by foot id, after the correction (the reference's order): a held foot that is no
 // longer in stance is marginalised (its column of X and its rows and columns of P removed); a foot
 // that touches down gets a new column d = p_hat + R_hat y, whose right-invariant error is
-// rho_d = rho_p + R_hat n: its rows of P copy those of rho_p, plus R_hat Cov R_hat^T. (The
-// reference takes R_hat from before the correction here; this filter uses the corrected one, for
-// which that error relation holds; the difference is the size of one attitude correction times
-// the leg length.) A stance foot's slip random walk sigma_d enters through Q_d.
+// rho_d = rho_p + R_hat n: its rows of P copy those of rho_p, plus R_hat Cov R_hat^T. That
+// relation needs R_hat to be the attitude whose error P describes, the corrected one
+// (TouchdownAttitude::kCorrected, the default): the error column of d is d_hat - R_hat R^T d, and
+// with d_hat = p_hat + R_hat y it is exactly rho_p + R_hat n. The reference implementation
+// (RossHartley/invariant-ekf, InEKF::CorrectKinematics) uses the attitude from before the
+// correction, R_hat-; then rho_d = rho_p + R_hat- n + (R_hat- - R_hat) R^T (d - p): an error of
+// one attitude correction times the leg length that P does not contain (kPredicted reproduces
+// it). A stance foot's slip random walk sigma_d enters through Q_d.
 //
 // covariance() maps xi to the kit's convention (R = Exp(dtheta) R_hat, v = v_hat + dv,
 // p = p_hat + dp) to first order: dtheta = -phi, dv = -(rho_v - [v_hat]_x phi),
@@ -90,6 +94,12 @@ using BiasBlock = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::ColMajor, kMax
 enum class Discretisation {
   kExact,       // closed-form Phi, exact mean for a held sample (this kit's default)
   kFirstOrder,  // Phi = I + A dt and the reference implementation's mean and Q_d
+};
+
+// The attitude that places a foot touching down, d = p_hat + R_hat y (file comment).
+enum class TouchdownAttitude {
+  kCorrected,  // after this sample's correction: the new foot's error is rho_p + R_hat n
+  kPredicted,  // before it, as the reference implementation does
 };
 
 // Phi = [[N, B], [0, I_6]] (file comment): N differs from the identity only in the blocks
@@ -126,12 +136,15 @@ struct InvariantEkfParams {
   double sigma_gyro_bias = 0.002;  // [rad/s]
   double sigma_accel_bias = 0.02;  // [m/s^2]
   inekf::Discretisation discretisation = inekf::Discretisation::kExact;
+  inekf::TouchdownAttitude touchdown_attitude = inekf::TouchdownAttitude::kCorrected;
   Eigen::Vector3d gravity = model::gravity();
   InputLimits limits;  // sensor ranges and the largest dt integrated (estimation/health.hpp)
 
   // The settings of the reference implementation's Cassie example (src/examples/kinematics.cpp):
   // its noise values read as continuous-time standard deviations (gyro 0.01, accel 0.1, bias
-  // random walks 1e-5 and 1e-4, contact 0.01), P0 = I, first-order Phi.
+  // random walks 1e-5 and 1e-4, contact 0.01), P0 = I, first-order Phi. The touchdown attitude
+  // stays the kit's (kCorrected); with kPredicted as well the filter is the reference's, and on
+  // its Cassie log gives the reference's states to rounding (tests/estimation).
   static InvariantEkfParams hartleyExample();
 };
 
@@ -176,7 +189,8 @@ class InvariantEkf final : public Estimator {
   template <int Feet>
   void correctHeldFeet(const StepInput& in);
   void removeFoot(int foot);
-  void addFoot(const ContactMeasurement& c);
+  // A new column for foot c.foot, placed with attitude R (TouchdownAttitude).
+  void addFoot(const ContactMeasurement& c, const Eigen::Matrix3d& R);
   int navDim() const { return 3 + 3 * static_cast<int>(X_.numCols()); }
 
   InvariantEkfParams params_;

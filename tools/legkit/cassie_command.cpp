@@ -7,16 +7,11 @@
 namespace legkit::tools {
 namespace {
 
-// The log's default place: beside the repository (see ../shared/data/hartley-cassie/README.md),
-// unless LEGKIT_CASSIE_LOG says otherwise.
+// The log's default place: the copy of data/hartley-cassie/ that CMake unpacks into the build
+// tree, unless LEGKIT_CASSIE_LOG says otherwise.
 std::string defaultLog() {
   if (const char* env = std::getenv("LEGKIT_CASSIE_LOG")) return env;
-#ifdef LEGKIT_SOURCE_DIR
-  return std::string(LEGKIT_SOURCE_DIR) +
-         "/../shared/data/hartley-cassie/imu_kinematic_measurements.txt";
-#else
-  return "imu_kinematic_measurements.txt";
-#endif
+  return LEGKIT_CASSIE_LOG_FILE;
 }
 
 }  // namespace
@@ -25,6 +20,7 @@ void runHartleyLog(invariant::InvariantEkf& filter, const io::HartleyLog& log) {
   EstimateSample x0;
   x0.q = Eigen::Quaterniond(Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal().toDenseMatrix());
   filter.reset(x0);
+  filter.step(StepInput{});  // the zero reading held before the log (t = 0, no feet)
   double t_previous = 0.0;
   for (const io::HartleySample& s : log.samples) {
     StepInput in;
@@ -46,14 +42,20 @@ CassieCommand::CassieCommand(CLI::App& app)
   CLI::App& c = *command_;
   c.add_option("file", file_, "Log in the reference's text format (IMU/CONTACT/KINEMATIC lines)")
       ->capture_default_str();
-  c.add_flag("--exact", exact_,
-             "Use the kit's exact closed-form Phi instead of the reference's first-order one");
+  CLI::Option* exact =
+      c.add_flag("--exact", exact_,
+                 "Use the kit's exact closed-form Phi instead of the reference's first-order one");
+  c.add_flag("--reference", reference_,
+             "Place a foot that touches down with the attitude from before the correction, as "
+             "the reference does: its own output, to rounding")
+      ->excludes(exact);
 }
 
 int CassieCommand::run(std::ostream& out) const {
   const io::HartleyLog log = io::readHartleyLog(file_);
   invariant::InvariantEkfParams params = invariant::InvariantEkfParams::hartleyExample();
   if (exact_) params.discretisation = invariant::inekf::Discretisation::kExact;
+  if (reference_) params.touchdown_attitude = invariant::inekf::TouchdownAttitude::kPredicted;
   invariant::InvariantEkf filter(params);
   const auto start = std::chrono::steady_clock::now();
   runHartleyLog(filter, log);
@@ -65,7 +67,10 @@ int CassieCommand::run(std::ostream& out) const {
   out << std::setprecision(6);
   out << "invariant EKF on " << file_ << "\n"
       << log.samples.size() << " samples, " << (exact_ ? "exact" : "first-order")
-      << " Phi, gyro 0.01, accel 0.1, bias 1e-5 / 1e-4, contact 0.01, P0 = I\n"
+      << " Phi, gyro 0.01, accel 0.1, bias 1e-5 / 1e-4, contact 0.01, P0 = I, touchdown "
+      << (reference_ ? "with the predicted attitude (the reference's)"
+                     : "with the corrected attitude (the kit's)")
+      << "\n"
       << "final state at t = " << x.t << " s:\n"
       << "  R   = " << filter.X().R().format(row) << "\n"
       << "  v   = " << x.v.transpose().format(row) << " m/s\n"

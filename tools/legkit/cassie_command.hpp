@@ -1,7 +1,8 @@
 // `legkit cassie [FILE]`: runs the right-invariant EKF on the reference implementation's Cassie
 // log (RossHartley/invariant-ekf, src/data/imu_kinematic_measurements.txt; io/hartley_log.hpp)
 // with the reference's settings, and prints the final state, e.g.
-//   legkit cassie                      the log next to the repository (../shared/data/...)
+//   legkit cassie                      the log of data/hartley-cassie/ (unpacked by CMake)
+//   legkit cassie --reference          the reference's touchdown attitude: its own output
 //   legkit cassie my_log.txt --exact   another log in that format; the kit's exact Phi
 #pragma once
 
@@ -15,8 +16,9 @@
 namespace legkit::tools {
 
 // Runs `filter` (reset here) over the log as the reference's example does: R0 = diag(1, -1, -1),
-// everything else zero, dt from the previous record (the first step propagates the zero sample
-// held at reset, as the reference does), the kinematics of the feet marked in contact.
+// everything else zero at t = 0, a zero IMU reading held until the log's first sample (given to
+// the filter as a sample at t = 0: the filter never integrates the first sample after a reset),
+// then per record dt from the previous one and the kinematics of the feet marked in contact.
 void runHartleyLog(invariant::InvariantEkf& filter, const io::HartleyLog& log);
 
 class CassieCommand {
@@ -34,6 +36,7 @@ class CassieCommand {
   CLI::App* command_;
   std::string file_;
   bool exact_ = false;
+  bool reference_ = false;  // TouchdownAttitude::kPredicted
 };
 
 }  // namespace legkit::tools
