@@ -84,12 +84,13 @@ def off_frame(reference, paths):
 
 
 def frame(paths):
-    """(xmin, xmax, ymin, ymax) around the paths ([(x, y)]) with a margin, at least 1 m wide."""
+    """(xmin, xmax, ymin, ymax) around the paths ([(x, y)]) with a margin, at least 10 cm wide (a
+    robot turning on the spot)."""
     x = np.concatenate([p[0] for p in paths])
     y = np.concatenate([p[1] for p in paths])
     x, y = x[np.isfinite(x)], y[np.isfinite(y)]
-    half_x = max(0.55 * np.ptp(x), 0.5)
-    half_y = max(0.55 * np.ptp(y), 0.5)
+    half_x = max(0.55 * np.ptp(x), 0.05)
+    half_y = max(0.55 * np.ptp(y), 0.05)
     cx, cy = 0.5 * (x.min() + x.max()), 0.5 * (y.min() + y.max())
     return cx - half_x, cx + half_x, cy - half_y, cy + half_y
 
