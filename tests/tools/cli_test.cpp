@@ -280,12 +280,14 @@ TEST_CASE("cli: --estimate-rate thins the estimate files, never the metrics", "[
 
 TEST_CASE("cli: a study shows its progress, and only outside its results", "[cli]") {
   const Folder dir("progress");
-  const Result r = runLegkit(dir.path, {"study", "consistency", "--runs", "2", "--duration", "0.5",
-                                        "--threads", "1", "--no-plots", "--out", "out"});
+  const Result r = runLegkit(dir.path, {"study", "consistency", "--runs", "3", "--duration", "0.5",
+                                        "--threads", "2", "--no-plots", "--out", "out"});
   REQUIRE(r.status == 0);
   INFO(r.output);
-  // Not a terminal: plain lines, one per run here, before the table.
-  CHECK_THAT(r.output, Catch::Matchers::StartsWith("consistency: run 1/2\nconsistency: run 2/2\n"));
+  // Not a terminal: plain lines, one per run here, counted in order across both threads, before
+  // the table.
+  CHECK_THAT(r.output, Catch::Matchers::StartsWith("consistency: run 1/3\nconsistency: run 2/3\n"
+                                                   "consistency: run 3/3\nConsistency on"));
   CHECK(r.output.find('\r') == std::string::npos);
   CHECK_THAT(slurp(dir.path / "out" / "consistency.csv"), !Catch::Matchers::Contains("run "));
 }
