@@ -85,12 +85,19 @@ Eigen::Matrix3d footMeasurementNoise(const Eigen::Matrix3d& R_hat, const Eigen::
   return R_hat * cov_r * R_hat.transpose() + z_x * Sigma_theta * z_x.transpose();
 }
 
-void josephUpdate(Matrix18& P, const Matrix18x3& K, const Matrix18x3& N, const Eigen::Matrix3d& S) {
+Eigen::Matrix3d attitudeNoiseBlock(const Eigen::Vector3d& z_a, const Eigen::Vector3d& z_b,
+                                   const Eigen::Matrix3d& Sigma_theta) {
+  return lie::hat3(z_a) * Sigma_theta * lie::hat3(z_b).transpose();
+}
+
+void josephUpdate(Matrix18& P, const Matrix18xRows& K, const Matrix18xRows& N,
+                  const RowsMatrix& S) {
   // (I - K H) P (I - K H)^T + K R K^T = P - K N^T - N K^T + K S K^T = P + K V^T + V K^T
   // (K V^T + V K^T is formed before it is added, so that P stays exactly symmetric.)
-  const Matrix18x3 V = 0.5 * K * S - N;
+  Matrix18xRows V = -N;
+  V.noalias() += 0.5 * K.lazyProduct(S);  // coefficient-wise products: the inner size is <= 15
   Matrix18 W;
-  W.noalias() = K.lazyProduct(V.transpose());  // coefficient-wise: the inner size is 3
+  W.noalias() = K.lazyProduct(V.transpose());
   P += W + W.transpose();
 }
 
@@ -146,15 +153,11 @@ void LinearKf::step(const StepInput& raw) {
   const Eigen::Matrix3d Sigma_theta =
       params_.model_attitude_error ? attitude_.attitudeCovariance() : Eigen::Matrix3d::Zero();
   ContactMask contact{};
-  for (const ContactMeasurement& c : in.stance()) {
-    if (!updateFoot(c, Sigma_theta)) health_.record(Fault::kUpdateFailed, in.t);
-    contact[c.foot] = true;
-  }
+  for (const ContactMeasurement& c : in.stance()) contact[c.foot] = true;
   // The velocity measurement needs this sample's rate: the admitted one, else the held one.
-  if (params_.use_leg_velocity && in.dt > 0.0 && (imu_admitted || has_previous_)) {
-    const Eigen::Vector3d& w_m = imu_admitted ? in.imu.w_m : previous_.w_m;
-    if (!updateVelocity(in, w_m, Sigma_theta)) health_.record(Fault::kUpdateFailed, in.t);
-  }
+  const bool velocity = params_.use_leg_velocity && in.dt > 0.0 && (imu_admitted || has_previous_);
+  const Eigen::Vector3d* w_m = velocity ? (imu_admitted ? &in.imu.w_m : &previous_.w_m) : nullptr;
+  if (!updateStance(in, w_m, Sigma_theta)) health_.record(Fault::kUpdateFailed, in.t);
   if (params_.accel_compensation_time > 0.0 && has_previous_ && in.dt > 0.0) {
     // a_w <- a_w + (dv / dt - a_w) dt / T: first-order low-pass of the velocity's rate of change.
     const double T = std::max(params_.accel_compensation_time, in.dt);
@@ -200,59 +203,84 @@ void LinearKf::predict(double dt, const Eigen::Vector3d& f_w) {
   }
 }
 
-bool LinearKf::update(const Matrix18x3& N, const Eigen::Matrix3d& S, const Eigen::Vector3d& y) {
-  const Eigen::LLT<Eigen::Matrix3d> llt(S);
-  if (llt.info() != Eigen::Success) return false;  // the contract: the update is skipped
-  const Matrix18x3 K = N * llt.solve(Eigen::Matrix3d::Identity());  // K = P H^T S^-1
-  x_.noalias() += K * y;
-  josephUpdate(P_, K, N, S);
-  return true;
-}
-
-bool LinearKf::updateFoot(const ContactMeasurement& c, const Eigen::Matrix3d& Sigma_theta) {
-  const int d = footIndex(c.foot);
+bool LinearKf::updateStance(const StepInput& in, const Eigen::Vector3d* w_m,
+                            const Eigen::Matrix3d& Sigma_theta) {
   const Eigen::Matrix3d& R_hat = attitude_.R().matrix();
-  // z_i = R_hat r_i, predicted d_i - p; H_i = [-I ... I ...] makes N = P H^T a column difference.
-  const Eigen::Vector3d y = R_hat * c.p_body - (x_.segment<3>(d) - x_.segment<3>(kP));
-  const Matrix18x3 N = P_.middleCols<3>(d) - P_.middleCols<3>(kP);
-  const Eigen::Matrix3d S = N.middleRows<3>(d) - N.middleRows<3>(kP) +
-                            footMeasurementNoise(R_hat, c.p_body, c.cov, Sigma_theta);
-  return update(N, S, y);
-}
-
-bool LinearKf::updateVelocity(const StepInput& in, const Eigen::Vector3d& w_m,
-                              const Eigen::Matrix3d& Sigma_theta) {
-  // The stance feet's mean base velocity = the velocity from a virtual foot at their centroid.
+  // The velocity: the mean base velocity of the k stance feet that carry r_dot, from a virtual
+  // foot at their centroid.
   Eigen::Vector3d r_bar = Eigen::Vector3d::Zero(), r_dot_bar = Eigen::Vector3d::Zero();
   Eigen::Matrix3d cov_r_bar = Eigen::Matrix3d::Zero();
   int k = 0;
   for (const ContactMeasurement& c : in.stance()) {
-    if (!c.v_body) continue;
+    if (!w_m || !c.v_body) continue;
     r_bar += c.p_body;
     r_dot_bar += *c.v_body;
     cov_r_bar += c.cov;
     ++k;
   }
-  if (k == 0) return true;
-  r_bar /= k;
-  r_dot_bar /= k;
-  cov_r_bar /= static_cast<double>(k * k);  // Cov(mean) = sum Cov(r_i) / k^2
-  const Eigen::Matrix3d& R_hat = attitude_.R().matrix();
-  const Eigen::Vector3d w = w_m - attitude_.b_g();  // rate at this sample
-  leg_odometry::FootVelocityNoise noise;
-  const double sg = params_.imu.gyro_noise_density, sr = params_.foot_velocity_sigma;
-  noise.gyro_cov = Eigen::Matrix3d::Identity() * (sg * sg / in.dt);  // one gyro sample
-  noise.r_dot_cov = Eigen::Matrix3d::Identity() * (sr * sr / k);
-  // z_v = -R_hat (w x r_bar + r_dot_bar)
-  const Eigen::Vector3d z_v = leg_odometry::baseVelocityFromFoot(R_hat, w, r_bar, r_dot_bar);
-  const Eigen::Matrix3d z_x = lie::hat3(z_v);
-  const Eigen::Matrix3d R_v =
-      leg_odometry::baseVelocityCovariance(R_hat, w, r_bar, cov_r_bar, noise) +
-      z_x * Sigma_theta * z_x.transpose();
-  // H_v = [0 I 0 ...]: N = P's columns of v.
-  const Matrix18x3 N = P_.middleCols<3>(kV);
-  const Eigen::Matrix3d S = N.middleRows<3>(kV) + R_v;
-  return update(N, S, z_v - x_.segment<3>(kV));
+  const Eigen::Vector3d w = w_m ? Eigen::Vector3d(*w_m - attitude_.b_g()) : Eigen::Vector3d::Zero();
+
+  // Block b of the stack reads x at at[b] (d_i - p for a foot; v for the velocity, the last).
+  std::array<int, kFeet + 1> at{};
+  std::array<Eigen::Vector3d, kFeet + 1> z;    // z_b, the measured world vector
+  std::array<Eigen::Matrix3d, kFeet + 1> own;  // Own_b, the block's noise without attitude
+  std::array<Eigen::Matrix3d, kFeet> with_v;   // R_(i, v) without attitude: shared dr_i
+  int feet = 0;
+  for (const ContactMeasurement& c : in.stance()) {
+    at[feet] = footIndex(c.foot);
+    z[feet] = R_hat * c.p_body;                     // z_i = R_hat r_i
+    own[feet] = R_hat * c.cov * R_hat.transpose();  // R_hat Cov(r_i) R_hat^T
+    // dz_i = R_hat dr_i, dz_v = -R_hat [w]_x dr_i / k + ...: R_hat Cov(r_i) / k [w]_x R_hat^T
+    with_v[feet] = k > 0 && c.v_body && w_m
+                       ? Eigen::Matrix3d(own[feet] * R_hat * lie::hat3(w) * R_hat.transpose() / k)
+                       : Eigen::Matrix3d::Zero();
+    ++feet;
+  }
+  const int blocks = feet + (k > 0 ? 1 : 0);
+  if (blocks == 0) return true;
+  if (k > 0) {
+    r_bar /= k;
+    r_dot_bar /= k;
+    cov_r_bar /= static_cast<double>(k * k);  // Cov(mean) = sum Cov(r_i) / k^2
+    leg_odometry::FootVelocityNoise noise;
+    const double sg = params_.imu.gyro_noise_density, sr = params_.foot_velocity_sigma;
+    noise.gyro_cov = Eigen::Matrix3d::Identity() * (sg * sg / in.dt);  // one gyro sample
+    noise.r_dot_cov = Eigen::Matrix3d::Identity() * (sr * sr / k);
+    at[feet] = kV;
+    z[feet] = leg_odometry::baseVelocityFromFoot(R_hat, w, r_bar, r_dot_bar);  // z_v
+    own[feet] = leg_odometry::baseVelocityCovariance(R_hat, w, r_bar, cov_r_bar, noise);
+  }
+
+  // H_b picks rows (of x, of N) or columns (of P): d_i - p for a foot, v for the velocity.
+  const auto rowsOf = [&](int b, const auto& M) {
+    return b < feet ? (M.template middleRows<3>(at[b]) - M.template middleRows<3>(kP)).eval()
+                    : M.template middleRows<3>(at[b]).eval();
+  };
+  const int m = 3 * blocks;
+  RowsVector y(m);
+  Matrix18xRows N(kDim, m);  // N = P H^T
+  for (int b = 0; b < blocks; ++b) {
+    y.segment<3>(3 * b) = z[b] - rowsOf(b, x_);
+    N.middleCols<3>(3 * b) = rowsOf(b, P_).transpose();  // P symmetric: P H_b^T = (H_b P)^T
+  }
+  // S = H N + R with the full R (file comment); lower blocks computed, upper ones mirrored.
+  RowsMatrix S(m, m);
+  for (int a = 0; a < blocks; ++a) {
+    for (int b = 0; b <= a; ++b) {
+      Eigen::Matrix3d S_ab =
+          rowsOf(a, N.middleCols<3>(3 * b)) + attitudeNoiseBlock(z[a], z[b], Sigma_theta);
+      if (a == b) S_ab += own[a];
+      if (a == feet && b < feet) S_ab += with_v[b].transpose();  // (v, i) = R_(i, v)^T
+      S.block<3, 3>(3 * a, 3 * b) = S_ab;
+      if (b < a) S.block<3, 3>(3 * b, 3 * a) = S_ab.transpose();
+    }
+  }
+  const Eigen::LLT<RowsMatrix> llt(S);
+  if (llt.info() != Eigen::Success) return false;  // the contract: the update is skipped
+  const Matrix18xRows K = llt.solve(N.transpose()).transpose();  // K = P H^T S^-1
+  x_.noalias() += K.lazyProduct(y);
+  josephUpdate(P_, K, N, S);
+  return true;
 }
 
 EstimateSample LinearKf::estimate() const {

@@ -27,31 +27,41 @@
 //
 // Measurement of stance foot i (leg kinematics, the body-frame foot position r_i = p_body):
 //   z_i = R_hat r_i = d_i - p + n_i,         H_i = [-I 0 ... I (at d_i) ... 0]
-//   R_i = R_hat Cov(r_i) R_hat^T + [z_i]_x Sigma_theta [z_i]_x^T
-// (the second term: R_hat r_i = Exp(-theta) R r_i is off by [z_i]_x theta). Swing feet: the
-// chapter gives them a huge R, which makes their gain K = 0. Skipping their update is the exact
-// limit of that (with K = 0 the Joseph update leaves x and P unchanged), cheaper and free of the
-// round-off a 1e4-sized R brings; the large swing process noise is what lets the first stance
-// measurement after touchdown place the foot, with a gain close to one on d_i.
+// With R = Exp(theta) R_hat, R_hat r_i = Exp(-theta) R r_i is off by [z_i]_x theta, so
+//   n_i = R_hat dr_i + [z_i]_x theta,        own part R_hat Cov(r_i) R_hat^T.
+// Swing feet: the chapter gives them a huge R, which makes their gain K = 0. Skipping their
+// update is the exact limit of that (with K = 0 the Joseph update leaves x and P unchanged),
+// cheaper and free of the round-off a 1e4-sized R brings; the large swing process noise is what
+// lets the first stance measurement after touchdown place the foot, with a gain close to one on
+// d_i.
 //
 // Optional velocity measurement (leg odometry, section 57.3), on by default: with the stance feet
 // that carry a body-frame velocity r_dot_i, the mean of their base velocities
 // v_i = -R_hat (w x r_i + r_dot_i) equals the velocity from one virtual foot at the centroid,
 //   z_v = -R_hat (w x r_bar + r_dot_bar),    r_bar = mean r_i,  r_dot_bar = mean r_dot_i,
 // with w = w_m - b_g_hat, so leg_odometry::baseVelocityFromFoot / baseVelocityCovariance give it
-// and its covariance directly, with Cov(r_bar) = sum Cov(r_i) / k^2, Cov(r_dot_bar) =
+// and its own covariance directly, with Cov(r_bar) = sum Cov(r_i) / k^2, Cov(r_dot_bar) =
 // sigma_rdot^2 I / k, and the gyro sample noise sigma_g^2 / dt counted once (it is common to all
-// feet, so averaging does not reduce it), plus [z_v]_x Sigma_theta [z_v]_x^T. H_v = [0 I 0 ...].
+// feet, so averaging does not reduce it). Its attitude part is [z_v]_x theta. H_v = [0 I 0 ...].
+//
+// One stacked update. The measurements of a sample are NOT independent: every block carries the
+// same attitude error theta, and the velocity shares the feet's kinematic noise through r_bar.
+// So all stance feet and the velocity form one measurement of at most 3 x 4 + 3 = 15 rows, with
+// the full noise covariance, block (a, b):
+//   R_ab = delta_ab Own_a + [z_a]_x Sigma_theta [z_b]_x^T          (attitude: every pair)
+//        + R_hat Cov(r_i) / k [w]_x R_hat^T   for a = foot i with r_dot_i, b = the velocity
+// (the last from dz_i = R_hat dr_i and dz_v = -R_hat [w]_x dr_bar; its transpose for (v, i)).
+// Processing the blocks one after the other with their diagonal R_aa alone would drop the
+// off-diagonal blocks and claim more information than there is (the tests measure by how much).
+// The stacked matrices are fixed-capacity Eigen (at most 15 rows): no allocation.
 //
 // Covariance update in Joseph form, P <- (I - K H) P (I - K H)^T + K R K^T, expanded with
-// N = P H^T (18 x 3) and S = H N + R:
+// N = P H^T (18 x m) and S = H N + R:
 //   K = N S^-1,   P <- P - K N^T - N K^T + K S K^T = P + K V^T + V K^T,   V = K S / 2 - N.
 // This is the Joseph expression term by term, so it keeps its defining property: an error in K
 // changes P only to second order (the short form P <- (I - K H) P does not), and the result is
-// symmetric by construction. The measurements are processed one 3 x 3 block at a time
-// (independent noises, so this equals one stacked update), each a rank-6 change of P that costs
-// about 2 x 18 x 18 x 3 multiply-adds; H's two identity blocks make N and S plain block
-// differences.
+// symmetric by construction. H is never formed: its identity blocks make N a set of P's column
+// differences and H N a set of N's row differences.
 //
 // Attitude. The filter owns an AttitudeFilter (attitude_filter.hpp) and steps it first, with the
 // same previous IMU sample. An accelerometer cannot tell a tilt from a horizontal acceleration,
@@ -94,6 +104,11 @@ using Matrix18 = Eigen::Matrix<double, kDim, kDim>;
 using Matrix18x3 = Eigen::Matrix<double, kDim, 3>;
 using Matrix3x18 = Eigen::Matrix<double, 3, kDim>;
 using Matrix6 = Eigen::Matrix<double, 6, 6>;
+// The stacked measurement of one sample: every stance foot and the velocity, at most 15 rows.
+constexpr int kMaxRows = 3 * kFeet + 3;
+using RowsVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxRows, 1>;
+using RowsMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxRows, kMaxRows>;
+using Matrix18xRows = Eigen::Matrix<double, kDim, Eigen::Dynamic, 0, kDim, kMaxRows>;
 using ContactMask = std::array<bool, kFeet>;  // true: foot in stance
 
 // Process-noise densities of the model (continuous time, discretised by the functions below).
@@ -125,15 +140,22 @@ double footNoiseVariance(double dt, bool in_stance, const ProcessNoise& noise);
 Matrix3x18 footMeasurementMatrix(int i);
 // H_v = [0 I 0 ... 0].
 Matrix3x18 velocityMeasurementMatrix();
-// The Joseph update for a 3-row measurement, given N = P H^T, S = H N + R and a gain K:
+// The Joseph update for an m-row measurement (m <= 15), given N = P H^T, S = H N + R and a
+// gain K:
 //   P <- P + K V^T + V K^T,  V = K S / 2 - N,
 // which is (I - K H) P (I - K H)^T + K R K^T expanded, for any K (the filter passes N S^-1).
-void josephUpdate(Matrix18& P, const Matrix18x3& K, const Matrix18x3& N, const Eigen::Matrix3d& S);
+void josephUpdate(Matrix18& P, const Matrix18xRows& K, const Matrix18xRows& N, const RowsMatrix& S);
 
-// R_i = R_hat Cov(r) R_hat^T + [R_hat r]_x Sigma_theta [R_hat r]_x^T.
+// The diagonal block of R for stance foot i:
+//   R_ii = R_hat Cov(r) R_hat^T + [R_hat r]_x Sigma_theta [R_hat r]_x^T.
 Eigen::Matrix3d footMeasurementNoise(const Eigen::Matrix3d& R_hat, const Eigen::Vector3d& r,
                                      const Eigen::Matrix3d& cov_r,
                                      const Eigen::Matrix3d& Sigma_theta);
+// The block of R between two measurements that share the attitude error, with z_a, z_b their
+// world vectors (R_hat r for a foot): R_ab = [z_a]_x Sigma_theta [z_b]_x^T. Between two stance
+// feet this is the whole off-diagonal block.
+Eigen::Matrix3d attitudeNoiseBlock(const Eigen::Vector3d& z_a, const Eigen::Vector3d& z_b,
+                                   const Eigen::Matrix3d& Sigma_theta);
 
 struct LinearKfParams {
   // Sensor densities: the simulator's Go2-class IMU (model::ImuNoise::go2()).
@@ -178,9 +200,9 @@ class LinearKf final : public Estimator {
   // p, v from x0, feet unknown (at p, variance foot_init_sigma^2) and out of contact; the
   // attitude filter from x0's attitude with zero gyro bias.
   void reset(const EstimateSample& x0) override;
-  // Prediction over in.dt with the previous IMU sample (attitude filter first), then the stance
-  // feet and the leg-odometry velocity. Bad input and faults as estimation/estimator.hpp's
-  // contract says.
+  // Prediction over in.dt with the previous IMU sample (attitude filter first), then one stacked
+  // update of the stance feet and the leg-odometry velocity. Bad input and faults as
+  // estimation/estimator.hpp's contract says.
   void step(const StepInput& in) override;
   EstimateSample estimate() const override;
   std::optional<BaseCovariance> covariance() const override;
@@ -192,13 +214,11 @@ class LinearKf final : public Estimator {
 
  private:
   void predict(double dt, const Eigen::Vector3d& f_w);
-  // One 3-row measurement with N = P H^T (18 x 3), residual y, its S = H N + R. False (nothing
+  // The stance feet and, when w_m is given (this sample's gyro reading, or the held one), the
+  // leg-odometry velocity, as one stacked update with the full R (file comment). False (nothing
   // changed) when S does not factorise.
-  bool update(const Matrix18x3& N, const Eigen::Matrix3d& S, const Eigen::Vector3d& y);
-  bool updateFoot(const ContactMeasurement& c, const Eigen::Matrix3d& Sigma_theta);
-  // w_m: this sample's gyro reading (the held one when this sample's was not admitted).
-  bool updateVelocity(const StepInput& in, const Eigen::Vector3d& w_m,
-                      const Eigen::Matrix3d& Sigma_theta);
+  bool updateStance(const StepInput& in, const Eigen::Vector3d* w_m,
+                    const Eigen::Matrix3d& Sigma_theta);
 
   LinearKfParams params_;
   FootSlots<kFeet> slots_;  // foot ids of the log -> this filter's foot states

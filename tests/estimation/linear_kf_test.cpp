@@ -1,6 +1,6 @@
 // The linear Kalman filter of section 57.4 and its attitude filter: F, B, Q, H, R against hand
-// values, the prediction against exact kinematics, one step against the dense textbook formulas,
-// the Joseph update for any gain, whole runs on simulated trots, bad input, no allocation in
+// values, the prediction against exact kinematics, one step against the exact stacked update
+// (and the old sequential one against it), the Joseph update for any gain, whole runs on simulated trots, bad input, no allocation in
 // step(), and Monte Carlo NEES.
 #include <catch2/catch.hpp>
 
@@ -201,15 +201,82 @@ TEST_CASE("LKF: the prediction is exact for a constant acceleration", "[57.4][li
   CHECK(e.t == t);
 }
 
-TEST_CASE("LKF: one step equals the dense textbook formulas", "[57.4][linear_kf]") {
-  // The filter's block arithmetic against x = F x + B u, P = F P F^T + Q and, per stance foot,
-  // K = P H^T S^-1, x += K (z - H x), P = (I - K H) P (I - K H)^T + K R K^T, all dense. The
-  // attitude terms are off here (checked on their own above), the leg velocity on and off.
+namespace {
+
+using MatrixX = Eigen::MatrixXd;
+using VectorX = Eigen::VectorXd;
+
+// One dense Kalman update with the stacked z, H, R: K = P H^T S^-1, x += K (z - H x),
+// P = (I - K H) P (I - K H)^T + K R K^T, in long double (the reference should round less than
+// the code it checks).
+void denseUpdate(Vector18& x, Matrix18& P, const MatrixX& H, const VectorX& z, const MatrixX& Rn) {
+  using MatrixL = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
+  const MatrixL Pl = P.cast<long double>(), Hl = H.cast<long double>();
+  const MatrixL Rl = Rn.cast<long double>();
+  const MatrixL S = Hl * Pl * Hl.transpose() + Rl;
+  const MatrixL K = Pl * Hl.transpose() * S.inverse();
+  x += (K * (z.cast<long double>() - Hl * x.cast<long double>())).cast<double>();
+  const MatrixL A = MatrixL::Identity(kDim, kDim) - K * Hl;
+  P = (A * Pl * A.transpose() + K * Rl * K.transpose()).cast<double>();
+}
+
+// The measurement of one sample, built densely and independently of the filter: z and H stacked
+// over the stance feet and the mean leg velocity, and R = J Sigma J^T from the Jacobian J of z in
+// every noise source, [dr_1..dr_n, dr_dot_1..dr_dot_n, dw, theta], Sigma their covariance.
+struct DenseMeasurement {
+  VectorX z;
+  MatrixX H, Rn;
+};
+
+DenseMeasurement denseMeasurement(const StepInput& in, const Eigen::Matrix3d& R,
+                                  const Eigen::Vector3d& w, const Eigen::Matrix3d& Sigma_theta,
+                                  const LinearKfParams& params, bool velocity) {
+  const int n = in.num_contacts, m = 3 * n + (velocity ? 3 : 0), sources = 6 * n + 6;
+  DenseMeasurement d{VectorX::Zero(m), MatrixX::Zero(m, kDim), MatrixX::Zero(m, m)};
+  MatrixX J = MatrixX::Zero(m, sources), Sigma = MatrixX::Zero(sources, sources);
+  const int dw = 6 * n, th = 6 * n + 3;  // columns of dw and theta in J
+  Sigma.block<3, 3>(dw, dw) = std::pow(params.imu.gyro_noise_density, 2) / in.dt * I3;
+  Sigma.block<3, 3>(th, th) = Sigma_theta;
+  for (int i = 0; i < n; ++i) {
+    const ContactMeasurement& c = in.contacts[i];
+    Sigma.block<3, 3>(3 * i, 3 * i) = c.cov;
+    Sigma.block<3, 3>(3 * n + 3 * i, 3 * n + 3 * i) = std::pow(params.foot_velocity_sigma, 2) * I3;
+    // z_i = R r_i = d_i - p, off by [z_i]_x theta
+    d.z.segment<3>(3 * i) = R * c.p_body;
+    d.H.block<3, 18>(3 * i, 0) = footMeasurementMatrix(c.foot);
+    J.block<3, 3>(3 * i, 3 * i) = R;
+    J.block<3, 3>(3 * i, th) = lie::hat3(R * c.p_body);
+  }
+  if (velocity) {
+    // z_v = mean of -R (w x r_i + r_dot_i) = v, off by [z_v]_x theta
+    const int v = 3 * n;
+    for (int i = 0; i < n; ++i) {
+      const ContactMeasurement& c = in.contacts[i];
+      d.z.segment<3>(v) += leg_odometry::baseVelocityFromFoot(R, w, c) / n;
+      J.block<3, 3>(v, 3 * i) = -R * lie::hat3(w) / n;      // d/dr_i
+      J.block<3, 3>(v, 3 * n + 3 * i) = -R / n;             // d/dr_dot_i
+      J.block<3, 3>(v, dw) += R * lie::hat3(c.p_body) / n;  // d/dw
+    }
+    d.H.block<3, 18>(v, 0) = velocityMeasurementMatrix();
+    J.block<3, 3>(v, th) = lie::hat3(d.z.segment<3>(v));
+  }
+  d.Rn = J * Sigma * J.transpose();
+  return d;
+}
+
+}  // namespace
+
+TEST_CASE("LKF: one step equals the exact stacked update, the old sequential one did not",
+          "[57.4][linear_kf]") {
+  // The filter's block arithmetic against the dense formulas: x = F x + B u, P = F P F^T + Q,
+  // then ONE update with all stance feet and the leg velocity stacked and the full R (every
+  // block shares the attitude error; the velocity shares the feet's kinematic noise). The old
+  // filter updated one 3-row block at a time with R's diagonal blocks alone; from the same
+  // prediction that gives a different x and a smaller P, and this test measures by how much.
   const io::Log log = trotLog(2.5, 3, false);  // trotting from t = 1 s
   const std::vector<StepInput> inputs = inputsOf(log);
   for (bool velocity : {false, true}) {
-    LinearKfParams params;
-    params.model_attitude_error = false;
+    LinearKfParams params;  // defaults: the attitude terms on
     params.use_leg_velocity = velocity;
     LinearKf filter(params);
     filter.reset(eval::initialState(log));
@@ -227,46 +294,74 @@ TEST_CASE("LKF: one step equals the dense textbook formulas", "[57.4][linear_kf]
     const Eigen::Matrix3d R_before = filter.attitude().R().matrix();
     const StepInput& in = inputs[k + 1];
     filter.step(in);
+    // The attitude filter ran first; its covariance after propagation is what Q and R use.
     const Eigen::Matrix3d R_after = filter.attitude().R().matrix();
+    const Eigen::Matrix3d Sigma_theta = filter.attitude().attitudeCovariance();
 
+    // Prediction, with the attitude error's share of the input noise, 2 tau C / dt.
     const ProcessModel m = processModel(in.dt, down(k), params.processNoise());
-    const Eigen::Vector3d u = R_before * inputs[k].imu.a_m + model::gravity();
-    x = m.F * x + m.B * u;
-    P = m.F * P * m.F.transpose() + m.Q;
-    const auto denseUpdate = [&](const Matrix3x18& H, const Eigen::Vector3d& z,
-                                 const Eigen::Matrix3d& Rn) {
-      const Eigen::Matrix3d S = H * P * H.transpose() + Rn;
-      const Matrix18x3 K = P * H.transpose() * S.inverse();
-      x += K * (z - H * x);
-      const Matrix18 A = Matrix18::Identity() - K * H;
-      P = A * P * A.transpose() + K * Rn * K.transpose();
+    const Eigen::Vector3d f_w = R_before * inputs[k].imu.a_m;
+    const Eigen::Matrix3d C = lie::hat3(f_w) * Sigma_theta * lie::hat3(f_w).transpose();
+    const Eigen::Matrix3d Sigma_u_theta = 2.0 * params.attitude_correlation_time * C / in.dt;
+    x = m.F * x + m.B * (f_w + model::gravity());
+    P = m.F * P * m.F.transpose() + m.Q + m.B * Sigma_u_theta * m.B.transpose();
+
+    // Rounding is relative to the predicted P: a foot that lands brings a swing variance of
+    // order 10 m^2 down to 1e-4 m^2.
+    const double P_scale = P.cwiseAbs().maxCoeff();
+    const Eigen::Vector3d w = in.imu.w_m - filter.attitude().b_g();
+    const DenseMeasurement d = denseMeasurement(in, R_after, w, Sigma_theta, params, velocity);
+    // The old filter: one block at a time, R's diagonal blocks alone.
+    const auto sequential = [&](const VectorX& z, Vector18& x_s, Matrix18& P_s) {
+      x_s = x;
+      P_s = P;
+      for (int b = 0; b < z.size() / 3; ++b)
+        denseUpdate(x_s, P_s, d.H.middleRows<3>(3 * b), z.segment<3>(3 * b),
+                    d.Rn.block<3, 3>(3 * b, 3 * b));
     };
-    for (const ContactMeasurement& c : in.stance())
-      denseUpdate(footMeasurementMatrix(c.foot), R_after * c.p_body,
-                  R_after * c.cov * R_after.transpose());
-    if (velocity) {
-      // The mean of the per-foot velocities, each -R (w x r_i + r_dot_i), and the covariance of
-      // that mean with the gyro noise common to all feet.
-      const Eigen::Vector3d w = in.imu.w_m - filter.attitude().b_g();
-      Eigen::Vector3d z = Eigen::Vector3d::Zero(), r_bar = Eigen::Vector3d::Zero();
-      Eigen::Matrix3d Rn = Eigen::Matrix3d::Zero();
-      const double n = in.num_contacts;
-      const double gyro_var = std::pow(params.imu.gyro_noise_density, 2) / in.dt;
-      for (const ContactMeasurement& c : in.stance()) {
-        z += leg_odometry::baseVelocityFromFoot(R_after, w, c) / n;
-        r_bar += c.p_body / n;
-        const Eigen::Matrix3d w_x = lie::hat3(w);
-        Rn += R_after *
-              (w_x * c.cov * w_x.transpose() + std::pow(params.foot_velocity_sigma, 2) * I3) *
-              R_after.transpose() / (n * n);
-      }
-      const Eigen::Matrix3d r_x = lie::hat3(r_bar);
-      Rn += R_after * r_x * (gyro_var * I3) * r_x.transpose() * R_after.transpose();
-      denseUpdate(velocityMeasurementMatrix(), z, Rn);
+    Vector18 x_seq;
+    Matrix18 P_seq;
+    sequential(d.z, x_seq, P_seq);
+    // Its estimate is x + G (z - H x) for some gain G (read off column by column), so the
+    // covariance of its actual error is the Joseph form with G and the full R.
+    MatrixX G(kDim, d.z.size());
+    for (int j = 0; j < d.z.size(); ++j) {
+      Vector18 x_j;
+      Matrix18 unused;
+      sequential(d.z + VectorX::Unit(d.z.size(), j), x_j, unused);
+      G.col(j) = x_j - x_seq;
     }
-    INFO("leg velocity " << velocity << ", touchdown at sample " << k + 1);
-    CHECK((filter.x() - x).cwiseAbs().maxCoeff() < 1e-10);
-    CHECK((filter.P() - P).cwiseAbs().maxCoeff() < 1e-10 * P.cwiseAbs().maxCoeff());
+    const Matrix18 A_seq = Matrix18::Identity() - G * d.H;
+    const Matrix18 P_seq_true = A_seq * P * A_seq.transpose() + G * d.Rn * G.transpose();
+    denseUpdate(x, P, d.H, d.z, d.Rn);  // the exact stacked update
+
+    const double dx = (filter.x() - x).cwiseAbs().maxCoeff();
+    const double dP = (filter.P() - P).cwiseAbs().maxCoeff() / P_scale;
+    const double dx_seq = (x_seq - x).cwiseAbs().maxCoeff();
+    const double dP_seq = (P_seq - P).cwiseAbs().maxCoeff() / P_scale;
+    // The base block (p, v) alone, where the shared attitude error matters most.
+    const double dPpv_seq = (P_seq - P).topLeftCorner<6, 6>().cwiseAbs().maxCoeff() /
+                            P.topLeftCorner<6, 6>().cwiseAbs().maxCoeff();
+    WARN("leg velocity " << velocity << ", touchdown at sample " << k + 1 << ", " << in.num_contacts
+                         << " feet: filter vs exact stacked: |dx| " << dx
+                         << " m, |dP| / |P_predicted| " << dP << "; old sequential vs exact: |dx| "
+                         << dx_seq << " m, |dP| / |P_predicted| " << dP_seq
+                         << ", (p, v) block |dP| / |P| " << dPpv_seq);
+    CHECK(dx < 1e-12);
+    CHECK(dP < 1e-12);
+    CHECK(dx_seq > 1e-6);
+    CHECK(dPpv_seq > 1e-3);
+    // Dropping R's off-diagonal blocks, the old filter claimed P_seq while its error had the
+    // covariance P_seq_true: over-confident where the largest eigenvalue of P_seq^-1 P_seq_true
+    // on (p, v) exceeds 1. Both are worse than the exact update, whose P is its error's.
+    const Matrix6 Ps = P_seq.topLeftCorner<6, 6>(), Pt = P_seq_true.topLeftCorner<6, 6>();
+    const double over = Eigen::GeneralizedSelfAdjointEigenSolver<Matrix6>(Pt, Ps)
+                            .eigenvalues()
+                            .maxCoeff();  // Pt u = lambda Ps u
+    WARN("old sequential update: its (p, v) error variance is up to " << over
+                                                                      << " times what it claims");
+    CHECK(over > 1.0005);
+    CHECK(Pt.trace() > P.topLeftCorner<6, 6>().trace());
   }
 }
 
@@ -553,10 +648,11 @@ NeesResult monteCarloNees(const LinearKfParams& params, const FrontendNoise& fro
 
 std::string describe(const NeesResult& r) {
   std::ostringstream os;
-  os << "ANEES over " << r.runs << " runs: mean " << r.mean << " (6 dof), bounds ["
-     << r.bounds.lower << ", " << r.bounds.upper << "], " << 100 * r.fraction
+  // Per degree of freedom, the one normalisation the chapters use.
+  os << "ANEES/dof over " << r.runs << " runs: mean " << r.mean / 6 << ", bounds ["
+     << r.bounds.lower / 6 << ", " << r.bounds.upper / 6 << "], " << 100 * r.fraction
      << " % of rows inside; per axis (v, p) " << r.per_axis.transpose() << "; per second";
-  for (const double m : r.per_second) os << " " << m;
+  for (const double m : r.per_second) os << " " << m / 6;
   return os.str();
 }
 
@@ -564,15 +660,16 @@ std::string describe(const NeesResult& r) {
 
 // The front end's foot-point sigma set to the simulator's level (its default 5 mm is a
 // contact-point uncertainty the simulated point feet do not have), the filter's defaults.
-// Measured (these seeds, 6 s): mean 6.52 inside [4.58, 7.61], 38 % of rows inside; per second
-// 3.9 4.4 5.3 6.8 8.1 10.7. Per axis e^2 / sigma^2: v 0.60 0.83 1.57, p 0.48 1.95 1.06.
+// Measured (these seeds, 6 s), ANEES/dof: mean 1.16 inside [0.76, 1.27], 33 % of rows inside;
+// per second 0.64 0.73 0.94 1.23 1.48 1.95. Per axis e^2 / sigma^2: v 0.59 0.82 1.98, p 0.49
+// 1.95 1.06.
 // Consistent on average but drifting from under- to over-confident: the attitude comes from
 // outside the filter and its error is a slowly varying bias (yaw a random walk), which a filter
 // without attitude in its state can only count as white noise (Q and R terms with Sigma_theta).
 // The cross-track position (y, at 1.95) is where it shows: yaw error times distance walked.
 // Without those attitude terms, or without the acceleration compensation of the attitude
-// filter, the mean leaves the bounds (measured 16.4 without compensation, pitch error times
-// forward speed making a vertical velocity bias).
+// filter, the mean leaves the bounds (ANEES/dof 4.5 without either, the next test; pitch error
+// times forward speed makes a vertical velocity bias).
 TEST_CASE("LKF: Monte Carlo NEES on the default trot", "[57.4][linear_kf][nees]") {
   FrontendNoise frontend;
   frontend.foot_point_sigma = 5e-4;
