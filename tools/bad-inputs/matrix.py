@@ -275,8 +275,9 @@ def run_case(legkit, work, name, expectation, contents, line):
         f.write(contents)
     out_dir = os.path.join(work, safe + ".out")
     try:
-        p = subprocess.run([legkit, "run", "--log", path, "--out", out_dir, "--no-plots"],
-                           capture_output=True, timeout=TIMEOUT)
+        # Every estimate row is checked, not only the default 100 Hz ones.
+        p = subprocess.run([legkit, "run", "--log", path, "--out", out_dir, "--no-plots",
+                            "--estimate-rate", "all"], capture_output=True, timeout=TIMEOUT)
     except subprocess.TimeoutExpired:
         return "hang (no answer in 60 s)"
     err = p.stderr.decode(errors="replace")
