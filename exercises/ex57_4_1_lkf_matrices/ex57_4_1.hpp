@@ -28,10 +28,11 @@ Matrix18 Q(double dt, const Stance& stance, const Densities& densities);
 // The stacked measurement matrix of the stance feet, 3 rows per stance foot in the order
 // FL, FR, RL, RR: foot i measures z_i = d_i - p.
 Eigen::MatrixXd H(const Stance& stance);
-// The stacked (block-diagonal) measurement noise of the stance feet, same order:
-//   R_i = R_hat C_i R_hat^T + [R_hat r_i]_x Sigma_theta [R_hat r_i]_x^T
-// with r_i the body-frame foot position, C_i its covariance and Sigma_theta the covariance of
-// the attitude error (world frame, R = Exp(theta) R_hat).
+// The stacked measurement noise of the stance feet, same order. Every foot's measurement carries
+// the same attitude error theta (world frame, R = Exp(theta) R_hat, covariance Sigma_theta), so
+// R is NOT block-diagonal: with z_i = R_hat r_i (r_i the body-frame foot position, C_i its
+// covariance), block (i, j) is
+//   R_ij = delta_ij R_hat C_i R_hat^T + [z_i]_x Sigma_theta [z_j]_x^T.
 Eigen::MatrixXd R(const Stance& stance, const Eigen::Matrix3d& R_hat,
                   const std::array<Eigen::Vector3d, 4>& r, const std::array<Eigen::Matrix3d, 4>& C,
                   const Eigen::Matrix3d& Sigma_theta);

@@ -59,6 +59,7 @@ Eigen::MatrixXd H(const Stance& stance) {
   return H;
 }
 
+// Block (i, j): the feet's own noise on the diagonal, the shared attitude error everywhere.
 Eigen::MatrixXd R(const Stance& stance, const Eigen::Matrix3d& R_hat,
                   const std::array<Eigen::Vector3d, 4>& r, const std::array<Eigen::Matrix3d, 4>& C,
                   const Eigen::Matrix3d& Sigma_theta) {
@@ -67,9 +68,14 @@ Eigen::MatrixXd R(const Stance& stance, const Eigen::Matrix3d& R_hat,
   int row = 0;
   for (int i = 0; i < 4; ++i) {
     if (!stance[i]) continue;
-    const Eigen::Matrix3d z_x = skew(R_hat * r[i]);
-    Rn.block<3, 3>(row, row) =
-        R_hat * C[i] * R_hat.transpose() + z_x * Sigma_theta * z_x.transpose();
+    const Eigen::Matrix3d zi_x = skew(R_hat * r[i]);
+    Rn.block<3, 3>(row, row) = R_hat * C[i] * R_hat.transpose();
+    int col = 0;
+    for (int j = 0; j < 4; ++j) {
+      if (!stance[j]) continue;
+      Rn.block<3, 3>(row, col) += zi_x * Sigma_theta * skew(R_hat * r[j]).transpose();
+      col += 3;
+    }
     row += 3;
   }
   return Rn;

@@ -5,6 +5,7 @@
 
 #include "estimation/linear_kf/linear_kf.hpp"
 #include "ex57_4_1.hpp"
+#include "exercises/exercise_check.hpp"
 
 namespace lkf = legkit::linear_kf;
 
@@ -14,54 +15,49 @@ constexpr double kDt = 0.001;
 const ex57_4_1::Stance kStance{false, true, true, false};  // FR and RL: one trot diagonal
 const lkf::ContactMask kMask{false, true, true, false};
 
-double maxAbs(const Eigen::MatrixXd& A) {
-  return A.cwiseAbs().maxCoeff();
-}
-
 }  // namespace
 
-TEST_CASE("57.4.1 F and B at dt = 1 ms", "[ex57.4.1]") {
+TEST_CASE("57.4.1 F and B at dt = 1 ms", "[ex57.4.1][hint 1]") {
   const lkf::ProcessModel kit = lkf::processModel(kDt, kMask, lkf::ProcessNoise{});
   const ex57_4_1::Matrix18 F = ex57_4_1::F(kDt);
   const Eigen::Matrix<double, 18, 3> B = ex57_4_1::B(kDt);
-  CHECK(maxAbs(F - kit.F) < 1e-18);
-  CHECK(maxAbs(B - kit.B) < 1e-18);
-  CHECK(F(0, 3) == 0.001);
-  CHECK(B(0, 0) == Approx(5e-7));
-  CHECK(B(3, 0) == 0.001);
+  REQUIRE_NEAR(F, kit.F, 1e-18);
+  REQUIRE_NEAR(B, kit.B, 1e-18);
+  REQUIRE_NEAR(F(0, 3), 0.001, 0.0);
+  REQUIRE_REL(B(0, 0), 5e-7, 1e-12);
+  REQUIRE_NEAR(B(3, 0), 0.001, 0.0);
 }
 
-TEST_CASE("57.4.1 Q at dt = 1 ms, FR and RL in stance", "[ex57.4.1]") {
+TEST_CASE("57.4.1 Q at dt = 1 ms, FR and RL in stance", "[ex57.4.1][hint 2]") {
   const ex57_4_1::Densities d;
   const lkf::ProcessNoise noise{d.accel, d.foot_stance, d.foot_swing};
   const lkf::ProcessModel kit = lkf::processModel(kDt, kMask, noise);
   const ex57_4_1::Matrix18 Q = ex57_4_1::Q(kDt, kStance, d);
-  CHECK(maxAbs(Q - kit.Q) < 1e-15);
+  REQUIRE_NEAR(Q, kit.Q, 1e-15);
   // Hand values: vv = 1.6e-3 * 1e-3 = 1.6e-6, pv = 1.6e-3 * 1e-6 / 2 = 8e-10,
   // pp = 1.6e-3 * 1e-9 / 4 = 4e-13; stance foot 1e-6 * 1e-3 = 1e-9, swing foot 100 * 1e-3 = 0.1.
-  CHECK(Q(3, 3) == Approx(1.6e-6));
-  CHECK(Q(0, 3) == Approx(8e-10));
-  CHECK(Q(0, 0) == Approx(4e-13));
-  CHECK(Q(6, 6) == Approx(0.1));     // FL swing
-  CHECK(Q(9, 9) == Approx(1e-9));    // FR stance
-  CHECK(Q(12, 12) == Approx(1e-9));  // RL stance
-  CHECK(Q(15, 15) == Approx(0.1));   // RR swing
+  REQUIRE_REL(Q(3, 3), 1.6e-6, 1e-12);
+  REQUIRE_REL(Q(0, 3), 8e-10, 1e-12);
+  REQUIRE_REL(Q(0, 0), 4e-13, 1e-12);
+  REQUIRE_REL(Q(6, 6), 0.1, 1e-12);     // FL swing
+  REQUIRE_REL(Q(9, 9), 1e-9, 1e-12);    // FR stance
+  REQUIRE_REL(Q(12, 12), 1e-9, 1e-12);  // RL stance
+  REQUIRE_REL(Q(15, 15), 0.1, 1e-12);   // RR swing
   // And with the other diagonal in stance, the feet swap.
   const ex57_4_1::Matrix18 Q2 = ex57_4_1::Q(kDt, {true, false, false, true}, d);
-  CHECK(maxAbs(Q2 - lkf::processModel(kDt, {true, false, false, true}, noise).Q) < 1e-15);
+  REQUIRE_NEAR(Q2, lkf::processModel(kDt, {true, false, false, true}, noise).Q, 1e-15);
 }
 
 TEST_CASE("57.4.1 H of the two stance feet", "[ex57.4.1]") {
   const Eigen::MatrixXd H = ex57_4_1::H(kStance);
-  REQUIRE(H.rows() == 6);
-  REQUIRE(H.cols() == 18);
-  CHECK(maxAbs(H.topRows<3>() - lkf::footMeasurementMatrix(1)) == 0.0);
-  CHECK(maxAbs(H.bottomRows<3>() - lkf::footMeasurementMatrix(2)) == 0.0);
-  CHECK(ex57_4_1::H({true, true, true, true}).rows() == 12);
-  CHECK(ex57_4_1::H({false, false, false, false}).rows() == 0);
+  Eigen::MatrixXd kit(6, 18);
+  kit << lkf::footMeasurementMatrix(1), lkf::footMeasurementMatrix(2);
+  REQUIRE_NEAR(H, kit, 0.0);
+  REQUIRE_NEAR(ex57_4_1::H({true, true, true, true}).rows(), 12, 0.0);
+  REQUIRE_NEAR(ex57_4_1::H({false, false, false, false}).rows(), 0, 0.0);
 }
 
-TEST_CASE("57.4.1 R of the two stance feet", "[ex57.4.1]") {
+TEST_CASE("57.4.1 R of the two stance feet, with the shared attitude error", "[ex57.4.1][hint 3]") {
   const Eigen::Matrix3d R_hat = lie::SO3d::Exp(Eigen::Vector3d(0.02, -0.03, 0.8)).matrix();
   const std::array<Eigen::Vector3d, 4> r{
       Eigen::Vector3d(0.19, 0.14, -0.30), Eigen::Vector3d(0.20, -0.15, -0.31),
@@ -73,15 +69,24 @@ TEST_CASE("57.4.1 R of the two stance feet", "[ex57.4.1]") {
   }
   const Eigen::Matrix3d Sigma_theta = Eigen::Vector3d(1e-5, 1e-5, 4e-5).asDiagonal();
   const Eigen::MatrixXd Rn = ex57_4_1::R(kStance, R_hat, r, C, Sigma_theta);
-  REQUIRE(Rn.rows() == 6);
-  REQUIRE(Rn.cols() == 6);
-  CHECK(maxAbs(Rn.topLeftCorner<3, 3>() -
-               lkf::footMeasurementNoise(R_hat, r[1], C[1], Sigma_theta)) < 1e-18);
-  CHECK(maxAbs(Rn.bottomRightCorner<3, 3>() -
-               lkf::footMeasurementNoise(R_hat, r[2], C[2], Sigma_theta)) < 1e-18);
-  CHECK(maxAbs(Rn.topRightCorner<3, 3>()) == 0.0);
-  // Without attitude error and with R_hat = I, R is the feet's own covariance.
+  // The kit's blocks: FR (1) first, RL (2) second.
+  Eigen::MatrixXd kit(6, 6);
+  kit << lkf::footMeasurementNoise(R_hat, r[1], C[1], Sigma_theta),
+      lkf::attitudeNoiseBlock(R_hat * r[1], R_hat * r[2], Sigma_theta),
+      lkf::attitudeNoiseBlock(R_hat * r[2], R_hat * r[1], Sigma_theta),
+      lkf::footMeasurementNoise(R_hat, r[2], C[2], Sigma_theta);
+  REQUIRE_NEAR(Rn, kit, 1e-18);
+  REQUIRE_NEAR(Rn, Rn.transpose(), 1e-20);
+  // Hand value of one cross entry with R_hat = I and Sigma_theta = s I:
+  // ([a]_x [b]_x^T)(0, 0) = a_y b_y + a_z b_z for a = r_FR, b = r_RL.
+  const double s = 1e-5;
+  const Eigen::MatrixXd Ri =
+      ex57_4_1::R(kStance, Eigen::Matrix3d::Identity(), r, C, s * Eigen::Matrix3d::Identity());
+  REQUIRE_REL(Ri(0, 3), s * (-0.15 * 0.14 + -0.31 * -0.29), 1e-12);
+  // Without attitude error the feet are independent and R is their own covariances.
   const Eigen::MatrixXd R0 =
       ex57_4_1::R(kStance, Eigen::Matrix3d::Identity(), r, C, Eigen::Matrix3d::Zero());
-  CHECK(maxAbs(R0.topLeftCorner<3, 3>() - C[1]) < 1e-20);
+  REQUIRE_NEAR((R0.topRightCorner<3, 3>()), Eigen::Matrix3d::Zero(), 0.0);
+  REQUIRE_NEAR((R0.topLeftCorner<3, 3>()), C[1], 1e-20);
+  REQUIRE_NEAR((R0.bottomRightCorner<3, 3>()), C[2], 1e-20);
 }
