@@ -1,7 +1,7 @@
 // The right-invariant EKF (section 57.5): its Phi blocks against lie::imu::phiWithBias and the
 // reference's I + A dt, one whole step against the dense textbook formulas (both
 // discretisations), contacts added and removed, the update along H, the covariance mapping,
-// dead reckoning against lie::imu::propagate, bad input, no allocation in step(), Monte Carlo
+// dead reckoning against lie::imu::propagate, bad input, Monte Carlo
 // NEES on the simulated trot, and the reference's Cassie log (reader, whole run, and the
 // reference implementation's own states on it).
 #include <catch2/catch.hpp>
@@ -9,12 +9,10 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
-#include <atomic>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <limits>
-#include <new>
 #include <random>
 #include <sstream>
 
@@ -27,49 +25,7 @@
 #include "io/log_error.hpp"
 #include "lie/imu_dynamics.hpp"
 #include "sim/simulator.hpp"
-
-// Counts every heap allocation of this program, to show that InvariantEkf::step makes none.
-namespace {
-std::atomic<long> g_allocations{0};
-}
-// GCC 12 sees std::vector's inlined sized delete call free() on memory from its own inlined
-// operator new and warns; both are the replacements below, which pair malloc with free.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  return operator new(size);
-}
-// The nothrow forms too (Catch uses them): every form must pair with the free() below, or a
-// sanitizer build reports an allocation/deallocation mismatch.
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  ++g_allocations;
-  return std::malloc(size == 0 ? 1 : size);
-}
-void* operator new[](std::size_t size, const std::nothrow_t& tag) noexcept {
-  return operator new(size, tag);
-}
-void operator delete(void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
+#include "trot_log.hpp"
 
 using namespace legkit;
 using namespace legkit::invariant;
@@ -79,6 +35,8 @@ using Eigen::Vector3d;
 using Eigen::VectorXd;
 using inekf::Discretisation;
 using inekf::Group;
+using legkit::test::inputsOf;
+using legkit::test::trotLog;
 
 namespace {
 
@@ -120,27 +78,6 @@ double maxAbs(const MatrixXd& M) {
 
 double minEigenvalue(const MatrixXd& P) {
   return Eigen::SelfAdjointEigenSolver<MatrixXd>(P).eigenvalues().minCoeff();
-}
-
-io::Log trotLog(double duration, unsigned seed, bool noiseless,
-                const model::ImuBias& bias = model::ImuBias{}) {
-  sim::SimOptions options;
-  options.scenario = sim::scenarioByName("trot");
-  options.duration = duration;
-  options.seed = seed;
-  options.initial_bias = bias;
-  if (noiseless) options.noiseless();
-  return sim::simulate(options).log;
-}
-
-std::vector<StepInput> inputsOf(const io::Log& log) {
-  const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
-  std::vector<StepInput> inputs;
-  for (std::size_t k = 0; k < log.rows.size(); ++k) {
-    const double dt = k == 0 ? 0.0 : log.rows[k].t - log.rows[k - 1].t;
-    inputs.push_back(frontend.input(log.rows[k], dt));
-  }
-  return inputs;
 }
 
 // A_full dt of the reference (first order, bias columns at the state before the step).
@@ -473,22 +410,6 @@ TEST_CASE("InEKF: a noiseless trot is tracked, with either discretisation", "[57
     for (int i = 0; i < 4; ++i) {
       CHECK((filter.columnOf(i) >= 0) == static_cast<bool>(log.rows.back().contact[i]));
     }
-  }
-}
-
-TEST_CASE("InEKF: step() never allocates", "[57.5][inekf]") {
-  const io::Log log = trotLog(1.0, 8, false);
-  const std::vector<StepInput> inputs = inputsOf(log);
-  for (const Discretisation mode : {Discretisation::kExact, Discretisation::kFirstOrder}) {
-    InvariantEkfParams params;
-    params.discretisation = mode;
-    InvariantEkf filter(params);
-    filter.reset(eval::initialState(log));
-    const long before = g_allocations.load();
-    for (const StepInput& in : inputs) filter.step(in);
-    const long after = g_allocations.load();
-    CHECK(after - before == 0);
-    CHECK(filter.numFeet() == inputs.back().num_contacts);  // it did run
   }
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "estimation/estimators.hpp"
+#include "estimation/invariant/invariant_ekf.hpp"
 #include "estimation/log_frontend.hpp"
 #include "sim/simulator.hpp"
 
@@ -150,6 +151,20 @@ TEST_CASE("no allocation: rejected samples and feet given slots", "[estimator]")
     CHECK(e->health()[Fault::kContactRange] == 1);
     CHECK(allocationsOfRun(*e, hexapod) == 0);
     CHECK(e->estimate().t == hexapod.steps.back().t);
+  }
+}
+
+TEST_CASE("no allocation: the InEKF's other discretisation and the reference's touchdown",
+          "[estimator]") {
+  const Inputs inputs = scenario("trot", 1.0);
+  invariant::InvariantEkfParams first_order;
+  first_order.discretisation = invariant::inekf::Discretisation::kFirstOrder;
+  invariant::InvariantEkfParams reference = first_order;
+  reference.touchdown_attitude = invariant::inekf::TouchdownAttitude::kPredicted;
+  for (const invariant::InvariantEkfParams& params : {first_order, reference}) {
+    invariant::InvariantEkf filter(params);
+    CHECK(allocationsOfRun(filter, inputs) == 0);
+    CHECK(filter.numFeet() == inputs.steps.back().num_contacts);  // it did run
   }
 }
 
