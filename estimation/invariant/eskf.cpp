@@ -16,41 +16,6 @@ using Matrix3 = Eigen::Matrix3d;
 using Vector3 = Eigen::Vector3d;
 }  // namespace
 
-State State::plus(const Vector27& dx) const {
-  State x = *this;
-  x.R = R * lie::SO3d::Exp(dx.segment<3>(kTheta));  // R = R_hat Exp(dtheta)
-  x.v += dx.segment<3>(kV);
-  x.p += dx.segment<3>(kP);
-  for (int i = 0; i < kFeet; ++i) x.d[i] += dx.segment<3>(footIndex(i));
-  x.b_g += dx.segment<3>(kBg);
-  x.b_a += dx.segment<3>(kBa);
-  return x;
-}
-
-Vector27 State::minus(const State& y) const {
-  Vector27 dx;
-  dx.segment<3>(kTheta) = R.rminus(y.R);  // Log(R_y^T R)
-  dx.segment<3>(kV) = v - y.v;
-  dx.segment<3>(kP) = p - y.p;
-  for (int i = 0; i < kFeet; ++i) dx.segment<3>(footIndex(i)) = d[i] - y.d[i];
-  dx.segment<3>(kBg) = b_g - y.b_g;
-  dx.segment<3>(kBa) = b_a - y.b_a;
-  return dx;
-}
-
-State propagate(const State& x, const model::ImuReading& u, double dt, const Vector3& g) {
-  const Vector3 phi = (u.w_m - x.b_g) * dt;  // rotation over dt, bias-corrected
-  const Vector3 f = u.a_m - x.b_a;           // specific force, bias-corrected
-  const Matrix3& R = x.R.matrix();
-  State next = x;
-  // R+ = R Exp(phi), re-normalised through the quaternion so that rounding never accumulates.
-  next.R = lie::SO3d::fromQuaternion(Eigen::Quaterniond(R * lie::SO3d::Exp(phi).matrix()));
-  next.v = x.v + R * (lie::Gamma<1>(phi) * f) * dt + g * dt;  // v + R Gamma_1 f dt + g dt
-  next.p = x.p + x.v * dt + R * (lie::Gamma<2>(phi) * f) * (dt * dt) +
-           0.5 * g * (dt * dt);  // p + v dt + R Gamma_2 f dt^2 + g dt^2/2
-  return next;
-}
-
 Matrix27 errorDynamics(const State& x, const model::ImuReading& u) {
   const Vector3 w = u.w_m - x.b_g;
   const Vector3 f = u.a_m - x.b_a;
@@ -100,17 +65,6 @@ Transition transition(const State& x, const model::ImuReading& u, double dt) {
   return T;
 }
 
-Vector3 footInBody(const State& x, int i, Matrix39* H) {
-  const Matrix3 Rt = x.R.matrix().transpose();
-  const Vector3 h = Rt * (x.d[i] - x.p);  // h_i = R^T (d_i - p)
-  if (H) {
-    H->block<3, 3>(0, 0) = lie::hat3(h);  // dtheta: Exp(-dtheta) h = h + [h]_x dtheta
-    H->block<3, 3>(0, 3) = -Rt;           // dp
-    H->block<3, 3>(0, 6) = Rt;            // dd_i
-  }
-  return h;
-}
-
 }  // namespace eskf
 
 using eskf::kBa;
@@ -136,12 +90,7 @@ void requireParam(bool ok, const char* what) {
 }  // namespace
 
 Eskf::Eskf(const EskfParams& params) : params_(params) {
-  const model::ImuNoise& n = params.imu;
-  requireParam(n.gyro_noise_density >= 0.0 && n.accel_noise_density >= 0.0 &&
-                   n.gyro_bias_random_walk >= 0.0 && n.accel_bias_random_walk >= 0.0 &&
-                   std::isfinite(n.gyro_noise_density + n.accel_noise_density +
-                                 n.gyro_bias_random_walk + n.accel_bias_random_walk),
-               "IMU noise densities must be finite and non-negative");
+  nominal::checkImuNoise(params.imu, "Eskf", false);  // zero random walk: a constant bias
   requireParam(params.foot_stance_density >= 0.0 && std::isfinite(params.foot_stance_density),
                "foot_stance_density must be finite and non-negative");
   requireParam(params.foot_swing_density >= 0.0 && std::isfinite(params.foot_swing_density),

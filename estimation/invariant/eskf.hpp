@@ -73,6 +73,7 @@
 
 #include "estimation/estimator.hpp"
 #include "estimation/foot_slots.hpp"
+#include "estimation/invariant/nominal_state.hpp"
 #include "lie/so3.hpp"
 #include "model/imu_model.hpp"
 #include "model/imu_noise.hpp"
@@ -81,35 +82,22 @@ namespace legkit::invariant {
 
 namespace eskf {
 
-constexpr int kFeet = 4;                 // d_1..d_4 (quadruped: FL FR RL RR)
-constexpr int kDim = 9 + 3 * kFeet + 6;  // 27: the error state
-// Offsets of the blocks in the error vector.
-constexpr int kTheta = 0, kV = 3, kP = 6, kD = 9, kBg = 9 + 3 * kFeet, kBa = kBg + 3;
-constexpr int footIndex(int i) {
-  return kD + 3 * i;
-}
-
-using Vector27 = Eigen::Matrix<double, kDim, 1>;
-using Matrix27 = Eigen::Matrix<double, kDim, kDim>;
-using Matrix39 = Eigen::Matrix<double, 3, 9>;
-
-struct State {
-  lie::SO3d R;                                    // body to world
-  Eigen::Vector3d v = Eigen::Vector3d::Zero();    // world velocity [m/s]
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();    // world position [m]
-  std::array<Eigen::Vector3d, kFeet> d{};         // world foot positions [m]
-  Eigen::Vector3d b_g = Eigen::Vector3d::Zero();  // gyro bias [rad/s]
-  Eigen::Vector3d b_a = Eigen::Vector3d::Zero();  // accelerometer bias [m/s^2]
-
-  // x (+) dx: R Exp(dtheta), the rest added (the injection of an error into the nominal state).
-  State plus(const Vector27& dx) const;
-  // x (-) y: the dx with y (+) dx = x (Log(R_y^T R_x) for the attitude).
-  Vector27 minus(const State& y) const;
-};
-
-// The nominal step over dt with the IMU sample u held constant (file comment), exact.
-State propagate(const State& x, const model::ImuReading& u, double dt,
-                const Eigen::Vector3d& g = model::gravity());
+// The state, its error vector, the strapdown step and h_i are the TSIF's too (nominal_state.hpp).
+using nominal::footInBody;
+using nominal::footIndex;
+using nominal::kBa;
+using nominal::kBg;
+using nominal::kD;
+using nominal::kDim;
+using nominal::kFeet;
+using nominal::kP;
+using nominal::kTheta;
+using nominal::kV;
+using nominal::Matrix27;
+using nominal::Matrix39;
+using nominal::propagate;
+using nominal::State;
+using nominal::Vector27;
 
 // F of d(dx)/dt = F dx + G n at the estimate x and input u (file comment): the chapter's
 // state-dependent error dynamics, for analysis and teaching (the filter uses Phi below).
@@ -124,10 +112,6 @@ struct Transition {
   Matrix27 matrix() const;           // the full 27 x 27 Phi
 };
 Transition transition(const State& x, const model::ImuReading& u, double dt);
-
-// h_i(x) = R^T (d_i - p), the stance foot i in the body frame, and its 3 x 9 Jacobian over
-// (dtheta, dp, dd_i) (zero on every other block of the error).
-Eigen::Vector3d footInBody(const State& x, int i, Matrix39* H = nullptr);
 
 }  // namespace eskf
 
@@ -153,7 +137,7 @@ struct EskfParams {
 class Eskf final : public Estimator {
  public:
   // Throws std::invalid_argument for a negative noise density, a non-positive prior sigma or a
-  // non-finite gravity.
+  // non-finite gravity. A zero bias random walk is a constant bias (nominal_state.hpp).
   explicit Eskf(const EskfParams& params = {});
 
   std::string name() const override { return "eskf"; }

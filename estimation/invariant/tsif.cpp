@@ -6,7 +6,6 @@
 #include <stdexcept>
 
 #include "lie/imu_dynamics.hpp"
-#include "lie/sek3.hpp"
 
 namespace legkit::invariant {
 
@@ -32,28 +31,6 @@ void addNavVector(Vector27& g, const Vector15& m) {
 }
 
 }  // namespace
-
-State State::plus(const Vector27& dx) const {
-  State x = *this;
-  x.R = R * lie::SO3d::Exp(dx.segment<3>(kTheta));  // R = R_hat Exp(dtheta)
-  x.v += dx.segment<3>(kV);
-  x.p += dx.segment<3>(kP);
-  for (int i = 0; i < kFeet; ++i) x.d[i] += dx.segment<3>(footIndex(i));
-  x.b_g += dx.segment<3>(kBg);
-  x.b_a += dx.segment<3>(kBa);
-  return x;
-}
-
-Vector27 State::minus(const State& y) const {
-  Vector27 dx;
-  dx.segment<3>(kTheta) = R.rminus(y.R);  // Log(R_y^T R)
-  dx.segment<3>(kV) = v - y.v;
-  dx.segment<3>(kP) = p - y.p;
-  for (int i = 0; i < kFeet; ++i) dx.segment<3>(footIndex(i)) = d[i] - y.d[i];
-  dx.segment<3>(kBg) = b_g - y.b_g;
-  dx.segment<3>(kBa) = b_a - y.b_a;
-  return dx;
-}
 
 ImuResidual imuResidual(const State& x0, const State& x1, const model::ImuReading& u, double dt,
                         const Vector3& g) {
@@ -118,20 +95,15 @@ Matrix15 imuWeight(const model::ImuNoise& noise, double dt) {
   W.block<3, 3>(3, 6) = -6.0 / (var_a * dt * dt) * I;
   W.block<3, 3>(6, 3) = W.block<3, 3>(3, 6);
   W.block<3, 3>(6, 6) = 12.0 / (var_a * dt * dt * dt) * I;
-  W.block<3, 3>(9, 9) = I / (var_bg * dt);
-  W.block<3, 3>(12, 12) = I / (var_ba * dt);
+  // A zero random walk (a constant bias) weighs its residual zero: the step shares one bias
+  // between the two states instead (shareBias), which is the infinite weight taken exactly.
+  W.block<3, 3>(9, 9) = var_bg > 0.0 ? Matrix3(I / (var_bg * dt)) : Matrix3::Zero();
+  W.block<3, 3>(12, 12) = var_ba > 0.0 ? Matrix3(I / (var_ba * dt)) : Matrix3::Zero();
   return W;
 }
 
 Vector3 kinematicsResidual(const State& x, int i, const Vector3& p_body, Matrix39* J_x) {
-  const Matrix3& R = x.R.matrix();
-  const Vector3 r_body = R.transpose() * (x.d[i] - x.p);  // the foot seen from the body
-  if (J_x) {
-    J_x->block<3, 3>(0, 0) = lie::hat3(r_body);  // (R Exp(d))^T y = R^T y + [R^T y]_x d
-    J_x->block<3, 3>(0, 3) = -R.transpose();
-    J_x->block<3, 3>(0, 6) = R.transpose();
-  }
-  return r_body - p_body;
+  return nominal::footInBody(x, i, J_x) - p_body;  // R^T (d_i - p) - p_body
 }
 
 }  // namespace tsif
@@ -161,13 +133,31 @@ void forgetFoot(Matrix27& Lambda, int i) {
   Lambda.middleCols<3>(f).setZero();
 }
 
+// A bias with zero random walk is constant, b_{k+1} = b_k: an infinite weight on r_b that the
+// normal equations cannot hold. Instead the pair shares one bias. The substitution
+// dx0_b = dx1_b (H' = T^T H T) folds x_k's bias rows and columns (its prior, the IMU residual's
+// dependence on it) into x_{k+1}'s, and leaves x_k's bias block an identity with a zero
+// right-hand side, so that the elimination of x_k below is unchanged.
+void shareBias(int b, Matrix27& H11, Matrix27& H12, Matrix27& H22, Vector27& b1, Vector27& b2) {
+  const Eigen::Matrix<double, 3, kDim> row = H12.middleRows<3>(b);  // x_k's bias, x_{k+1}
+  H22.middleRows<3>(b) += row;
+  H22.middleCols<3>(b) += row.transpose();
+  H22.block<3, 3>(b, b) += H11.block<3, 3>(b, b);
+  H12.middleCols<3>(b) += H11.middleCols<3>(b);
+  b2.segment<3>(b) += b1.segment<3>(b);
+  H11.middleRows<3>(b).setZero();
+  H11.middleCols<3>(b).setZero();
+  H11.block<3, 3>(b, b).setIdentity();
+  H12.middleRows<3>(b).setZero();
+  b1.segment<3>(b).setZero();
+}
+
 }  // namespace
 
 Tsif::Tsif(const TsifParams& params) : params_(params) {
-  requirePositive(params.imu.gyro_noise_density, "gyro noise density");
-  requirePositive(params.imu.accel_noise_density, "accelerometer noise density");
-  requirePositive(params.imu.gyro_bias_random_walk, "gyro bias random walk");
-  requirePositive(params.imu.accel_bias_random_walk, "accelerometer bias random walk");
+  // White noise weighs the IMU residual by its inverse: it must be positive. A zero random walk
+  // is a constant bias (shareBias).
+  nominal::checkImuNoise(params.imu, "Tsif", true);
   requirePositive(params.foot_stance_density, "foot_stance_density");
   requirePositive(params.foot_swing_density, "foot_swing_density");
   requirePositive(params.foot_init_sigma, "foot_init_sigma");
@@ -232,17 +222,7 @@ void Tsif::step(const StepInput& raw) {
   // The pair (x0, x1) = (x_k, x_{k+1}); x1 starts at the IMU prediction of x0.
   State x0 = x_;
   Matrix27 Lambda0 = Lambda_;
-  State x1 = x0;
-  {
-    lie::SE23d::Columns C;
-    C << x0.v, x0.p;
-    const lie::SE23d X1 =
-        lie::imu::propagate(lie::SE23d(x0.R, C), Eigen::Vector3d(previous_.w_m - x0.b_g),
-                            Eigen::Vector3d(previous_.a_m - x0.b_a), params_.gravity, dt);
-    x1.R = X1.rotation();
-    x1.v = X1.col(0);
-    x1.p = X1.col(1);
-  }
+  State x1 = nominal::propagate(x0, previous_, dt, params_.gravity);
   // Touchdown: the foot is forgotten and placed at this sample's kinematics (in both states; the
   // stance residual ties them, the kinematics residual gives the foot all its information).
   for (int i = 0; i < kFeet; ++i) {
@@ -331,6 +311,9 @@ void Tsif::step(const StepInput& raw) {
       }
     }
 
+    if (params_.imu.gyro_bias_random_walk == 0.0) shareBias(kBg, H11, H12, H22, b1, b2);
+    if (params_.imu.accel_bias_random_walk == 0.0) shareBias(kBa, H11, H12, H22, b1, b2);
+
     // Eliminate x0 with H11 = L L^T: Y = L^-1 H12, z = L^-1 b1, and the reduced (marginal)
     // information S = H22 - H12^T H11^-1 H12 = H22 - Y^T Y.
     const Eigen::LLT<Matrix27> llt11(H11);
@@ -353,6 +336,9 @@ void Tsif::step(const StepInput& raw) {
     const Vector27 dx1 = -llt22.solve(b2 - Y.transpose() * z);  // S dx1 = -(b2 - H21 H11^-1 b1)
     Vector27 dx0 = -(z + Y * dx1);                              // H11 dx0 = -(b1 + H12 dx1)
     llt11.matrixU().solveInPlace(dx0);
+    // A shared (constant) bias moves in both states.
+    if (params_.imu.gyro_bias_random_walk == 0.0) dx0.segment<3>(kBg) = dx1.segment<3>(kBg);
+    if (params_.imu.accel_bias_random_walk == 0.0) dx0.segment<3>(kBa) = dx1.segment<3>(kBa);
     x0 = x0.plus(dx0);
     x1 = x1.plus(dx1);
   }

@@ -37,7 +37,9 @@
 //   r_bg = b_g,k+1 - b_g,k,   r_ba = b_a,k+1 - b_a,k
 // Its weight is the inverse of the noise the continuous densities integrate to over dt:
 // sigma_g^2 dt on r_R; on (r_v, r_p) per axis sigma_a^2 [[dt, dt^2/2], [dt^2/2, dt^3/3]] (white
-// acceleration integrated once and twice); sigma_bg^2 dt and sigma_ba^2 dt on the biases.
+// acceleration integrated once and twice); sigma_bg^2 dt and sigma_ba^2 dt on the biases. A zero
+// random walk (a constant bias, the contract of nominal_state.hpp) would be an infinite weight:
+// the two states then share one bias instead, substituted exactly into the normal equations.
 //
 // Solver. The normal equations of the pair are 54 x 54, but their structure makes a dedicated
 // solver short: x_k is eliminated first (Cholesky of the 27 x 27 block H_11), the reduced
@@ -74,6 +76,7 @@
 
 #include "estimation/estimator.hpp"
 #include "estimation/foot_slots.hpp"
+#include "estimation/invariant/nominal_state.hpp"
 #include "lie/so3.hpp"
 #include "model/imu_model.hpp"
 #include "model/imu_noise.hpp"
@@ -82,35 +85,26 @@ namespace legkit::invariant {
 
 namespace tsif {
 
-constexpr int kFeet = 4;                    // d_1..d_4 (quadruped: FL FR RL RR)
+// The state, its error vector, the strapdown step and h_i are the ESKF's too (nominal_state.hpp).
+using nominal::footIndex;
+using nominal::kBa;
+using nominal::kBg;
+using nominal::kD;
+using nominal::kDim;
+using nominal::kFeet;
+using nominal::kP;
+using nominal::kTheta;
+using nominal::kV;
+using nominal::Matrix27;
+using nominal::Matrix39;
+using nominal::State;
+using nominal::Vector27;
+
 constexpr double kMinDt = 1e-5;             // [s] shorter steps are carried over to the next one
 constexpr double kMinFootVariance = 1e-12;  // [m^2] (1 um)^2 added to every kinematics covariance
-constexpr int kDim = 9 + 3 * kFeet + 6;     // 27: the error vector of one state
-// Offsets of the blocks in the error vector.
-constexpr int kTheta = 0, kV = 3, kP = 6, kD = 9, kBg = 9 + 3 * kFeet, kBa = kBg + 3;
-constexpr int footIndex(int i) {
-  return kD + 3 * i;
-}
 
-using Vector27 = Eigen::Matrix<double, kDim, 1>;
-using Matrix27 = Eigen::Matrix<double, kDim, kDim>;
 using Vector15 = Eigen::Matrix<double, 15, 1>;
 using Matrix15 = Eigen::Matrix<double, 15, 15>;
-using Matrix39 = Eigen::Matrix<double, 3, 9>;
-
-struct State {
-  lie::SO3d R;                                    // body to world
-  Eigen::Vector3d v = Eigen::Vector3d::Zero();    // world velocity [m/s]
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();    // world position [m]
-  std::array<Eigen::Vector3d, kFeet> d{};         // world foot positions [m]
-  Eigen::Vector3d b_g = Eigen::Vector3d::Zero();  // gyro bias [rad/s]
-  Eigen::Vector3d b_a = Eigen::Vector3d::Zero();  // accelerometer bias [m/s^2]
-
-  // x (+) dx: R Exp(dtheta), the rest added.
-  State plus(const Vector27& dx) const;
-  // x (-) y: the dx with y (+) dx = x (Log(R_y^T R_x) for the attitude).
-  Vector27 minus(const State& y) const;
-};
 
 // The IMU residual between two states and its Jacobians. The feet do not enter it, so each
 // Jacobian is 15 x 15 over the navigation blocks (dtheta, dv, dp, db_g, db_a) of its state, in
@@ -151,7 +145,8 @@ struct TsifParams {
 
 class Tsif final : public Estimator {
  public:
-  // Throws std::invalid_argument for a non-positive density, sigma or iteration count.
+  // Throws std::invalid_argument for a non-positive white noise or foot density, sigma or
+  // iteration count, or a negative bias random walk (zero is a constant bias).
   explicit Tsif(const TsifParams& params = {});
 
   std::string name() const override { return "tsif"; }

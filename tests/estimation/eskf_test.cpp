@@ -401,6 +401,40 @@ TEST_CASE("ESKF: without contacts it is IMU dead reckoning", "[57.5][eskf]") {
   CHECK(worst < 1e-9);
 }
 
+TEST_CASE("ESKF: a zero bias random walk is a constant bias", "[57.5][eskf]") {
+  // The contract of both 57.5 filters (nominal_state.hpp): zero random walk is accepted, and the
+  // biases' variance then never grows; it only shrinks as the contacts observe them.
+  const io::Log log = trotLog(3.0, 4, false);
+  const std::vector<StepInput> inputs = inputsOf(log);
+  const auto biasVariance = [](const Eskf& f) {
+    return Eigen::Vector2d(f.P().block<3, 3>(eskf::kBg, eskf::kBg).trace(),
+                           f.P().block<3, 3>(eskf::kBa, eskf::kBa).trace());
+  };
+  for (const bool contacts : {false, true}) {
+    for (const bool constant : {true, false}) {
+      EskfParams params;
+      if (constant) params.imu.gyro_bias_random_walk = params.imu.accel_bias_random_walk = 0.0;
+      Eskf filter(params);
+      filter.reset(eval::initialState(log));
+      Eigen::Vector2d previous = biasVariance(filter);
+      const Eigen::Vector2d prior = previous;
+      bool grew = false;
+      for (StepInput in : inputs) {
+        if (!contacts) in.num_contacts = 0;
+        filter.step(in);
+        const Eigen::Vector2d now = biasVariance(filter);
+        grew = grew || (now.array() > previous.array() * (1.0 + 1e-12)).any();
+        previous = now;
+      }
+      INFO("contacts " << contacts << ", constant " << constant << ": bias variance "
+                       << previous.transpose() << " from " << prior.transpose());
+      CHECK(filter.health().healthy());
+      CHECK(grew != constant);  // a random walk grows it at least while nothing observes it
+      if (constant && !contacts) CHECK(previous.isApprox(prior, 1e-12));
+    }
+  }
+}
+
 TEST_CASE("ESKF: a noiseless trot is tracked", "[57.5][eskf]") {
   const io::Log log = trotLog(5.0, 1, true);
   const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
@@ -516,7 +550,7 @@ TEST_CASE("ESKF: bad input throws and leaves the state untouched", "[57.5][eskf]
     CHECK_THROWS_WITH(Eskf(params), Catch::Contains(message));
   };
   rejects([](EskfParams& p) { p.foot_stance_density = -1.0; }, "foot_stance_density");
-  rejects([](EskfParams& p) { p.imu.gyro_noise_density = -1.0; }, "IMU noise densities");
+  rejects([](EskfParams& p) { p.imu.gyro_noise_density = -1.0; }, "gyro noise density");
   rejects([](EskfParams& p) { p.sigma_attitude = 0.0; }, "prior sigmas");
   rejects([](EskfParams& p) { p.gravity.z() = std::numeric_limits<double>::infinity(); },
           "gravity");

@@ -258,6 +258,46 @@ TEST_CASE("TSIF: without contacts it is IMU dead reckoning", "[57.5][tsif]") {
   CHECK(worst < 1e-9);
 }
 
+TEST_CASE("TSIF: a zero bias random walk is a constant bias", "[57.5][tsif]") {
+  // The contract of both 57.5 filters (nominal_state.hpp): zero random walk is accepted (the two
+  // states of a step share one bias). Without contacts nothing observes the biases: a constant
+  // bias keeps its prior variance, a random walk grows it (by 1.9e-3, relative, over 3 s). The
+  // information form's rounding moves it too, by about 2e-4 over those 3 s (chapter 57.10).
+  const io::Log log = trotLog(3.0, 4, false);
+  const std::vector<StepInput> inputs = inputsOf(log);
+  const auto biasVariance = [](const Tsif& f) {
+    const tsif::Matrix27 P = f.information().llt().solve(tsif::Matrix27::Identity());
+    return Eigen::Vector2d(P.block<3, 3>(tsif::kBg, tsif::kBg).trace(),
+                           P.block<3, 3>(tsif::kBa, tsif::kBa).trace());
+  };
+  std::array<std::array<Eigen::Vector2d, 2>, 2> variance;  // [contacts][constant], after 3 s
+  Eigen::Vector2d prior;
+  for (const bool contacts : {false, true}) {
+    for (const bool constant : {false, true}) {
+      TsifParams params;
+      if (constant) params.imu.gyro_bias_random_walk = params.imu.accel_bias_random_walk = 0.0;
+      Tsif filter(params);
+      filter.reset(eval::initialState(log));
+      prior = biasVariance(filter);
+      for (StepInput in : inputs) {
+        if (!contacts) in.num_contacts = 0;
+        filter.step(in);
+      }
+      CHECK(filter.health().healthy());
+      variance[contacts][constant] = biasVariance(filter);
+    }
+  }
+  INFO("bias variance (gyro, accel) from " << prior.transpose() << ": without contacts "
+                                           << variance[0][1].transpose() << " constant, "
+                                           << variance[0][0].transpose() << " random walk");
+  CHECK(((variance[0][1] - prior).array().abs() < 5e-4 * prior.array()).all());
+  CHECK((variance[0][0].array() > (1.0 + 1e-3) * prior.array()).all());
+  INFO("with contacts " << variance[1][1].transpose() << " constant, " << variance[1][0].transpose()
+                        << " random walk");
+  CHECK(variance[1][1](0) < 0.9 * prior(0));  // the trot observes the gyro bias
+  CHECK((variance[1][1].array() < variance[1][0].array()).all());
+}
+
 TEST_CASE("TSIF: a noiseless trot is tracked", "[57.5][tsif]") {
   const io::Log log = trotLog(5.0, 1, true);
   const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
