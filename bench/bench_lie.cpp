@@ -6,7 +6,8 @@
 // nor the random-number generator is timed. Results go through benchmark::DoNotOptimize.
 // Inputs: uniformly random rotations with N(0, 1) columns; tangents with N(0, 1) components
 // (rotation angles mostly between 0.5 and 3, i.e. both sides of the Taylor switches in
-// so3_series.hpp), and, for the IMU, 1 kHz-sized increments.
+// so3_series.hpp), and, for the IMU, 1 kHz-sized increments. BM_LogSmall takes rotations of
+// about 0.1 rad instead.
 //
 //   cmake --build build --target bench_lie && ./build/bench/bench_lie --benchmark_min_time=0.2
 #include <benchmark/benchmark.h>
@@ -96,6 +97,21 @@ void BM_Log(benchmark::State& state) {
   }
 }
 
+// Log of small rotations, Exp of tangents scaled by 0.05 (angles ~0.1 rad, like an estimator's
+// corrections): the small-angle branch of SO3::logOfMatrix, which Haar rotations rarely take.
+template <typename G>
+void BM_LogSmall(benchmark::State& state) {
+  const auto xi = tangents<G>();
+  std::vector<G> X;
+  X.reserve(kN);
+  for (const auto& t : xi) X.push_back(G::Exp(0.05 * t));
+  std::size_t i = 0;
+  for (auto _ : state) {
+    typename G::Tangent out = X[i++ & kMask].Log();
+    benchmark::DoNotOptimize(out);
+  }
+}
+
 template <typename G>
 void BM_Compose(benchmark::State& state) {
   const auto X = elements<G>();
@@ -171,6 +187,8 @@ void BM_JrInv(benchmark::State& state) {
 
 LIE_BENCH_GROUP(SO3d);
 LIE_BENCH_GROUP(SE3d);
+BENCHMARK_TEMPLATE(BM_LogSmall, SO3d);
+BENCHMARK_TEMPLATE(BM_LogSmall, SE3d);
 LIE_BENCH_GROUP(SE23d);
 LIE_BENCH_GROUP(SE63d);
 LIE_BENCH_GROUP(SE63dyn);

@@ -5,7 +5,11 @@
 #include <rapidcheck/catch.h>
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <random>
 #include <unsupported/Eigen/MatrixFunctions>
+#include <vector>
 
 #include "lie_test_support.hpp"
 
@@ -124,6 +128,48 @@ TEST_CASE("SO3 Exp and Log", "[lie][so3]") {
     const double s = *lietest::uniform(-1, 1), t = *lietest::uniform(-1, 1);
     RC_ASSERT((SO3d::Exp(s * phi) * SO3d::Exp(t * phi)).isApprox(SO3d::Exp((s + t) * phi), 1e-14));
   });
+}
+
+// SO3::logOfMatrix changes formula where sin theta = |cos theta| (theta = pi/4 and 3 pi/4: which
+// asin is taken) and at cos theta = SO3::kNearPiCos (theta ~ 2.69: where the axis comes from).
+// On both sides of each switch, and at the ends 0 and pi, Log of the double matrix R must agree
+// with an independent long-double Log of the same R (Eigen's AngleAxis: quaternion and atan2),
+// so the comparison measures Log alone, not the rounding of Exp.
+TEST_CASE("SO3 Log is accurate on both sides of its switches", "[lie][so3]") {
+  using LD = long double;
+  const double nearPi = std::acos(double(SO3d::kNearPiCos));
+  std::vector<double> angles = {0.0, 1e-300, 1e-150, 1e-12, 1e-4, 0.3, 1.7, 3.0, lietest::kPi};
+  for (const double sw : {lietest::kPi / 4, 3 * lietest::kPi / 4, nearPi}) {
+    for (const double rel : {0.0, 1e-15, 1e-12, 1e-6, 1e-3}) {
+      angles.push_back(sw * (1 + rel));
+      angles.push_back(sw * (1 - rel));
+    }
+  }
+  std::mt19937 gen(5);
+  std::normal_distribution<double> n01;
+  double worst = 0;
+  for (const double theta : angles) {
+    for (int r = 0; r < 200; ++r) {
+      Vector3d u(n01(gen), n01(gen), n01(gen));
+      if (r < 6) u = Vector3d::Unit(r % 3) * (r < 3 ? 1.0 : -1.0);  // the axes, both signs
+      const Matrix3d R = SO3d::Exp(theta * u.normalized()).matrix();
+      const Eigen::AngleAxis<LD> ref(R.cast<LD>());
+      const Eigen::Matrix<LD, 3, 1> phiRef = ref.angle() * ref.axis();
+      const Vector3d phi = SO3d::fromMatrix(R).Log();
+      // At pi, phi and -phi are the same rotation: compare with the nearer one.
+      const LD err = std::min((phi.cast<LD>() - phiRef).norm(), (phi.cast<LD>() + phiRef).norm());
+      const double rel = double(err / std::max(LD(1e-300), phiRef.norm()));
+      CAPTURE(theta, u.transpose(), phi.transpose(), rel);
+      CHECK(rel <= 1e-15);
+      worst = std::max(worst, rel);
+    }
+  }
+  // Just below and above kNearPiCos the two axis formulas agree to rounding.
+  const Vector3d u = Vector3d(0.3, -0.5, 0.8).normalized();
+  const Vector3d below = SO3d::Exp(std::nextafter(nearPi, 0.0) * u).Log();
+  const Vector3d above = SO3d::Exp(std::nextafter(nearPi, 4.0) * u).Log();
+  CHECK((below - above).norm() <= 2e-15);
+  CHECK(worst > 0);  // the grid did reach angles where rounding shows
 }
 
 TEST_CASE("SO3 adjoint", "[lie][so3]") {

@@ -171,9 +171,8 @@ class SEK3 {
   }
 
   Tangent Log(Jacobian* J_out_this = nullptr) const {
-    Scalar sinHalf, cosHalf;
-    const Vector3 phi = SO3Type::logOfQuaternion(Eigen::Quaternion<Scalar>(R_), &sinHalf, &cosHalf);
-    const AngleSeries<Scalar> c(phi.squaredNorm(), sinHalf, cosHalf);
+    const Vector3 phi = SO3Type::logOfMatrix(R_);
+    const AngleSeries<Scalar> c(phi.squaredNorm());
     Tangent xi(dof());
     xi.template head<3>() = phi;
     rhoOf(xi, numCols()).noalias() = jlInv(phi, c) * C_;

@@ -6,8 +6,8 @@
 //   Jl^-1    = I - [phi]/2 + D [phi]^2
 // with the G's and D from so3_series.hpp. Jacobian convention (manif, Sola et al. 2018):
 //   Exp(phi + d) = Exp(phi) Exp(Jr(phi) d) = Exp(Jl(phi) d) Exp(phi).
-// Log goes through the unit quaternion (Shepperd's method picks the best-conditioned entry),
-// so it stays accurate near theta = 0 and near theta = pi.
+// Log reads the angle and the axis off the matrix (logOfMatrix): accurate at every angle, with
+// one asin and no atan2, no quaternion.
 #pragma once
 
 #include <Eigen/Core>
@@ -131,7 +131,7 @@ class SO3 {
   }
 
   Tangent Log(Jacobian* J_out_this = nullptr) const {
-    const Tangent phi = logOfQuaternion(quaternion());
+    const Tangent phi = logOfMatrix(R_);
     if (J_out_this) *J_out_this = JrInv(phi);
     return phi;
   }
@@ -190,29 +190,36 @@ class SO3 {
     return skewSeries(phi, c.theta2(), Scalar(1), Scalar(-0.5), c.jlInvD());
   }
 
-  // Rotation vector of a unit quaternion: theta = 2 atan2(|v|, w), taken with w >= 0 so that
-  // theta lies in [0, pi]. For small |v|, theta/|v| = (2/w)(1 - |v|^2/(3w^2) + ...).
-  // Optionally hands back sin(theta/2) = |v| and cos(theta/2) = w, which AngleSeries reuses.
-  static Tangent logOfQuaternion(const Eigen::Quaternion<Scalar>& q, Scalar* sinHalf = nullptr,
-                                 Scalar* cosHalf = nullptr) {
-    using std::atan2;
+  // Rotation vector of a rotation matrix. With c = cos theta = (trace R - 1)/2 and
+  // s = vee(R - R^T)/2 = sin(theta) u, the angle is the one asin that is well conditioned,
+  // asin of whichever of |s| = sin theta and |c| is smaller (at most 1/sqrt 2):
+  //   theta = asin|s| (theta < pi/4),  pi/2 - asin(c) (otherwise),  pi - asin|s| (theta > 3pi/4).
+  // The axis is s/|s| unless theta is near pi, where s vanishes and its rounding would tilt the
+  // axis; there (c < kNearPiCos) the axis is the column of the symmetric part
+  // (R + R^T)/2 - c I = (1 - c) u u^T with the largest diagonal entry, signed to agree with s.
+  static Tangent logOfMatrix(const Matrix& R) {
+    using std::asin;
     using std::sqrt;
-    const Scalar sign = q.w() < Scalar(0) ? Scalar(-1) : Scalar(1);
-    const Scalar w = sign * q.w();
-    const Tangent v = sign * q.vec();
-    const Scalar n2 = v.squaredNorm();
-    const Scalar n = sqrt(n2);
-    Scalar scale;
-    if (n2 < Scalar(1e-12)) {
-      const Scalar r2 = n2 / (w * w);
-      scale = Scalar(2) / w * (Scalar(1) - r2 / Scalar(3) + r2 * r2 / Scalar(5));
-    } else {
-      scale = Scalar(2) * atan2(n, w) / n;
-    }
-    if (sinHalf) *sinHalf = n;
-    if (cosHalf) *cosHalf = w;
-    return scale * v;
+    constexpr Scalar pi = Scalar(3.141592653589793238462643383279502884L);
+    const Scalar c = (R(0, 0) + R(1, 1) + R(2, 2) - Scalar(1)) / Scalar(2);
+    const Tangent s = Tangent(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1)) / Scalar(2);
+    const Scalar n = sqrt(s.squaredNorm());              // sin theta
+    const bool nearAxis = n < (c < Scalar(0) ? -c : c);  // theta within pi/4 of 0 or of pi
+    const Scalar a = asin(nearAxis ? n : c);
+    const Scalar theta = nearAxis ? (c > Scalar(0) ? a : pi - a) : pi / Scalar(2) - a;
+    if (c >= kNearPiCos) return (n > Scalar(0) ? theta / n : Scalar(1)) * s;  // theta/sin theta
+    // Column i of the symmetric part, i the largest diagonal entry: (1 - c) u_i u.
+    int i = R(1, 1) > R(0, 0) ? 1 : 0;
+    if (R(2, 2) > R(i, i)) i = 2;
+    Tangent axis = (R.col(i) + R.row(i).transpose()) / Scalar(2);
+    axis(i) -= c;
+    const Scalar norm = axis.dot(s) < Scalar(0) ? -axis.norm() : axis.norm();
+    return (theta / norm) * axis;
   }
+
+  // cos theta below which Log takes the axis from the symmetric part (theta > 2.69): there the
+  // rounding of s, divided by sin theta < 0.44, would cost more than a few ulp of phi.
+  static constexpr Scalar kNearPiCos = Scalar(-0.9);
 
  private:
   template <typename, int, int>

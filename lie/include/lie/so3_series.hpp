@@ -12,14 +12,16 @@
 // The G's obey  theta^2 G_{m+2} = 1/m! - G_m,  which gives every closed form from G_1 and G_2,
 // and their derivatives are again G's:  (1/theta) dG_m/dtheta = m G_{m+2} - G_{m+1}.
 //
-// Accuracy. G_1 and G_2 are evaluated from sin and cos of the half angle, which never cancels
-// (1 - cos theta = 2 sin^2(theta/2)); they only need a series where theta^2 underflows. For
-// m >= 3 the closed form subtracts nearly equal numbers, and each step of the recurrence
-// multiplies the relative error by about (m-1) m / theta^2. Measured against a long-double
-// series, the closed forms stay within 4e-16 (relative) from theta = 1 for G_3, 1.5 for G_4 and
-// 2.5 for G_5 and G_6; below those switch points the Taylor series is summed instead, with just
-// enough terms (8, 9, 11) that the first omitted term is below 1e-17. tests/lie/series_test.cpp
-// checks both sides of every switch against a long-double reference.
+// Accuracy. G_1 and G_2 come from sin(theta/2)/(theta/2) and cos(theta/2), which never cancel
+// (1 - cos theta = 2 sin^2(theta/2)). For theta < pi both are summed as Taylor series in
+// (theta/2)^2 <= pi^2/4, with enough terms (11 and 12) that the first omitted one is below 1e-19:
+// no square root, no sin or cos, no division. Beyond pi they come from std::sin and std::cos of
+// the half angle. For m >= 3 the closed form subtracts nearly equal numbers, and each step of the
+// recurrence multiplies the relative error by about (m-1) m / theta^2. Measured against a
+// long-double series, the closed forms stay within 4e-16 (relative) from theta = 1 for G_3, 1.5
+// for G_4 and 2.5 for G_5 and G_6; below those switch points the Taylor series is summed instead,
+// with just enough terms (8, 9, 11) that the first omitted term is below 1e-17.
+// tests/lie/series_test.cpp checks both sides of every switch against a long-double reference.
 #pragma once
 
 #include <array>
@@ -51,8 +53,8 @@ constexpr std::array<long double, N> g45Coefficients() {
 // sum_{k=0}^{N-1} (-x)^k c_k by Horner's rule, from the smallest term up.
 template <typename Scalar, std::size_t N>
 Scalar alternatingSeries(Scalar x, const std::array<long double, N>& c) {
-  Scalar sum(0);
-  for (int k = static_cast<int>(N) - 1; k >= 0; --k) sum = Scalar(c[k]) - x * sum;
+  Scalar sum(c[N - 1]);
+  for (int k = static_cast<int>(N) - 2; k >= 0; --k) sum = Scalar(c[k]) - x * sum;
   return sum;
 }
 
@@ -67,20 +69,18 @@ class AngleSeries {
     using std::cos;
     using std::sin;
     using std::sqrt;
-    if (x_ < kTinyX) {
-      setTiny();
+    if (x_ < kHalfAngleSeriesX) {
+      // With h = theta/2: sin(h)/h and cos(h), summed in h^2 = x/4 (see the file comment).
+      static constexpr auto sincCoefficients = detail::gCoefficients<1, 11>();  // 1/(2k+1)!
+      static constexpr auto cosCoefficients = detail::gCoefficients<0, 12>();   // 1/(2k)!
+      const Scalar h2 = x_ / Scalar(4);
+      const Scalar sinc = detail::alternatingSeries(h2, sincCoefficients);
+      g1_ = sinc * detail::alternatingSeries(h2, cosCoefficients);  // sin(2h)/2h = sinc(h) cos h
+      g2_ = sinc * sinc / Scalar(2);  // (1 - cos 2h)/4h^2 = 2 sin^2(h)/4h^2
     } else {
-      const Scalar theta = sqrt(x_);
-      setFromHalfAngle(theta, sin(theta / 2), cos(theta / 2));
-    }
-  }
-  // When sin and cos of the half angle are already known (a unit quaternion holds them).
-  AngleSeries(Scalar theta2, Scalar sinHalf, Scalar cosHalf) : x_(theta2) {
-    using std::sqrt;
-    if (x_ < kTinyX) {
-      setTiny();
-    } else {
-      setFromHalfAngle(sqrt(x_), sinHalf, cosHalf);
+      const Scalar theta = sqrt(x_), s = sin(theta / 2), c = cos(theta / 2);
+      g1_ = Scalar(2) * s * c / theta;  // sin(theta)/theta
+      g2_ = Scalar(2) * s * s / x_;     // (1 - cos theta)/theta^2
     }
   }
 
@@ -124,16 +124,8 @@ class AngleSeries {
   Scalar jlInvD() const { return (G<3>() - Scalar(2) * G<4>()) / (Scalar(2) * g2_); }
 
  private:
-  void setTiny() {  // theta < 1e-5: two terms of each series are exact to rounding
-    g1_ = Scalar(1) - x_ / Scalar(6);
-    g2_ = Scalar(0.5) - x_ / Scalar(24);
-  }
-  void setFromHalfAngle(Scalar theta, Scalar s, Scalar c) {
-    g1_ = Scalar(2) * s * c / theta;  // sin(theta)/theta
-    g2_ = Scalar(2) * s * s / x_;     // (1 - cos theta)/theta^2
-  }
-
-  static constexpr double kTinyX = 1e-10;
+  // theta^2 up to which G_1 and G_2 are summed as series in the half angle: pi^2.
+  static constexpr double kHalfAngleSeriesX = 9.869604401089358;
   Scalar x_;
   Scalar g1_;
   Scalar g2_;
