@@ -18,6 +18,53 @@ void require(bool ok, const char* what) {
   if (!ok) throw std::invalid_argument(std::string("LinearKf: ") + what);
 }
 
+// The 3-row blocks of one sample's stacked measurement (LinearKf::updateStance): the stance feet
+// first, then the velocity if any.
+struct Stack {
+  std::array<int, kFeet + 1> at{};             // H_b reads x at at[b]: d_i (minus p), or v
+  std::array<Eigen::Vector3d, kFeet + 1> z;    // z_b, the measured world vector
+  std::array<Eigen::Matrix3d, kFeet + 1> own;  // Own_b, the block's noise without attitude
+  std::array<Eigen::Matrix3d, kFeet> with_v;   // R_(i, v) without attitude: shared dr_i
+  int feet = 0;
+  int blocks = 0;
+};
+
+// One update with all M = 3 * stack.blocks rows and the full R (linear_kf.hpp), fixed-size.
+// False (nothing changed) when S does not factorise.
+template <int M>
+bool stackedUpdate(Vector18& x, Matrix18& P, const Stack& st, const Eigen::Matrix3d& Sigma_theta) {
+  constexpr int kBlocks = M / 3;
+  // H_b picks rows (of x, of N) or columns (of P): d_i - p for a foot, v for the velocity.
+  const auto rowsOf = [&](int b, const auto& A) {
+    return b < st.feet ? (A.template middleRows<3>(st.at[b]) - A.template middleRows<3>(kP)).eval()
+                       : A.template middleRows<3>(st.at[b]).eval();
+  };
+  Eigen::Matrix<double, M, 1> y;
+  Eigen::Matrix<double, kDim, M> N;  // N = P H^T
+  for (int b = 0; b < kBlocks; ++b) {
+    y.template segment<3>(3 * b) = st.z[b] - rowsOf(b, x);
+    N.template middleCols<3>(3 * b) = rowsOf(b, P).transpose();  // P H_b^T = (H_b P)^T
+  }
+  // S = H N + R with the full R; lower blocks computed, upper ones mirrored.
+  Eigen::Matrix<double, M, M> S;
+  for (int a = 0; a < kBlocks; ++a) {
+    for (int b = 0; b <= a; ++b) {
+      Eigen::Matrix3d S_ab = rowsOf(a, N.template middleCols<3>(3 * b)) +
+                             attitudeNoiseBlock(st.z[a], st.z[b], Sigma_theta);
+      if (a == b) S_ab += st.own[a];
+      if (a == st.feet && b < st.feet) S_ab += st.with_v[b].transpose();  // R_(v, i) = R_(i, v)^T
+      S.template block<3, 3>(3 * a, 3 * b) = S_ab;
+      if (b < a) S.template block<3, 3>(3 * b, 3 * a) = S_ab.transpose();
+    }
+  }
+  const Eigen::LLT<Eigen::Matrix<double, M, M>> llt(S);
+  if (llt.info() != Eigen::Success) return false;  // the contract: the update is skipped
+  const Eigen::Matrix<double, kDim, M> K = llt.solve(N.transpose()).transpose();  // N S^-1
+  x.noalias() += K.lazyProduct(y);
+  josephUpdate(P, K, N, S);
+  return true;
+}
+
 }  // namespace
 
 // -- The model's matrices ----------------------------------------------------------------------
@@ -88,17 +135,6 @@ Eigen::Matrix3d footMeasurementNoise(const Eigen::Matrix3d& R_hat, const Eigen::
 Eigen::Matrix3d attitudeNoiseBlock(const Eigen::Vector3d& z_a, const Eigen::Vector3d& z_b,
                                    const Eigen::Matrix3d& Sigma_theta) {
   return lie::hat3(z_a) * Sigma_theta * lie::hat3(z_b).transpose();
-}
-
-void josephUpdate(Matrix18& P, const Matrix18xRows& K, const Matrix18xRows& N,
-                  const RowsMatrix& S) {
-  // (I - K H) P (I - K H)^T + K R K^T = P - K N^T - N K^T + K S K^T = P + K V^T + V K^T
-  // (K V^T + V K^T is formed before it is added, so that P stays exactly symmetric.)
-  Matrix18xRows V = -N;
-  V.noalias() += 0.5 * K.lazyProduct(S);  // coefficient-wise products: the inner size is <= 15
-  Matrix18 W;
-  W.noalias() = K.lazyProduct(V.transpose());
-  P += W + W.transpose();
 }
 
 // -- The filter --------------------------------------------------------------------------------
@@ -220,24 +256,18 @@ bool LinearKf::updateStance(const StepInput& in, const Eigen::Vector3d* w_m,
   }
   const Eigen::Vector3d w = w_m ? Eigen::Vector3d(*w_m - attitude_.b_g()) : Eigen::Vector3d::Zero();
 
-  // Block b of the stack reads x at at[b] (d_i - p for a foot; v for the velocity, the last).
-  std::array<int, kFeet + 1> at{};
-  std::array<Eigen::Vector3d, kFeet + 1> z;    // z_b, the measured world vector
-  std::array<Eigen::Matrix3d, kFeet + 1> own;  // Own_b, the block's noise without attitude
-  std::array<Eigen::Matrix3d, kFeet> with_v;   // R_(i, v) without attitude: shared dr_i
-  int feet = 0;
+  Stack st;
   for (const ContactMeasurement& c : in.stance()) {
-    at[feet] = footIndex(c.foot);
-    z[feet] = R_hat * c.p_body;                     // z_i = R_hat r_i
-    own[feet] = R_hat * c.cov * R_hat.transpose();  // R_hat Cov(r_i) R_hat^T
+    const int i = st.feet++;
+    st.at[i] = footIndex(c.foot);
+    st.z[i] = R_hat * c.p_body;                     // z_i = R_hat r_i
+    st.own[i] = R_hat * c.cov * R_hat.transpose();  // R_hat Cov(r_i) R_hat^T
     // dz_i = R_hat dr_i, dz_v = -R_hat [w]_x dr_i / k + ...: R_hat Cov(r_i) / k [w]_x R_hat^T
-    with_v[feet] = k > 0 && c.v_body && w_m
-                       ? Eigen::Matrix3d(own[feet] * R_hat * lie::hat3(w) * R_hat.transpose() / k)
+    st.with_v[i] = k > 0 && c.v_body
+                       ? Eigen::Matrix3d(st.own[i] * R_hat * lie::hat3(w) * R_hat.transpose() / k)
                        : Eigen::Matrix3d::Zero();
-    ++feet;
   }
-  const int blocks = feet + (k > 0 ? 1 : 0);
-  if (blocks == 0) return true;
+  st.blocks = st.feet;
   if (k > 0) {
     r_bar /= k;
     r_dot_bar /= k;
@@ -246,41 +276,27 @@ bool LinearKf::updateStance(const StepInput& in, const Eigen::Vector3d* w_m,
     const double sg = params_.imu.gyro_noise_density, sr = params_.foot_velocity_sigma;
     noise.gyro_cov = Eigen::Matrix3d::Identity() * (sg * sg / in.dt);  // one gyro sample
     noise.r_dot_cov = Eigen::Matrix3d::Identity() * (sr * sr / k);
-    at[feet] = kV;
-    z[feet] = leg_odometry::baseVelocityFromFoot(R_hat, w, r_bar, r_dot_bar);  // z_v
-    own[feet] = leg_odometry::baseVelocityCovariance(R_hat, w, r_bar, cov_r_bar, noise);
+    const int v = st.blocks++;
+    st.at[v] = kV;
+    st.z[v] = leg_odometry::baseVelocityFromFoot(R_hat, w, r_bar, r_dot_bar);  // z_v
+    st.own[v] = leg_odometry::baseVelocityCovariance(R_hat, w, r_bar, cov_r_bar, noise);
   }
-
-  // H_b picks rows (of x, of N) or columns (of P): d_i - p for a foot, v for the velocity.
-  const auto rowsOf = [&](int b, const auto& M) {
-    return b < feet ? (M.template middleRows<3>(at[b]) - M.template middleRows<3>(kP)).eval()
-                    : M.template middleRows<3>(at[b]).eval();
-  };
-  const int m = 3 * blocks;
-  RowsVector y(m);
-  Matrix18xRows N(kDim, m);  // N = P H^T
-  for (int b = 0; b < blocks; ++b) {
-    y.segment<3>(3 * b) = z[b] - rowsOf(b, x_);
-    N.middleCols<3>(3 * b) = rowsOf(b, P_).transpose();  // P symmetric: P H_b^T = (H_b P)^T
+  // Fixed-size matrices for each possible number of rows (kMaxRows = 15 at most).
+  switch (st.blocks) {
+    case 0:
+      return true;
+    case 1:
+      return stackedUpdate<3>(x_, P_, st, Sigma_theta);
+    case 2:
+      return stackedUpdate<6>(x_, P_, st, Sigma_theta);
+    case 3:
+      return stackedUpdate<9>(x_, P_, st, Sigma_theta);
+    case 4:
+      return stackedUpdate<12>(x_, P_, st, Sigma_theta);
+    default:
+      static_assert(kMaxRows == 15, "one case per number of blocks");
+      return stackedUpdate<15>(x_, P_, st, Sigma_theta);
   }
-  // S = H N + R with the full R (file comment); lower blocks computed, upper ones mirrored.
-  RowsMatrix S(m, m);
-  for (int a = 0; a < blocks; ++a) {
-    for (int b = 0; b <= a; ++b) {
-      Eigen::Matrix3d S_ab =
-          rowsOf(a, N.middleCols<3>(3 * b)) + attitudeNoiseBlock(z[a], z[b], Sigma_theta);
-      if (a == b) S_ab += own[a];
-      if (a == feet && b < feet) S_ab += with_v[b].transpose();  // (v, i) = R_(i, v)^T
-      S.block<3, 3>(3 * a, 3 * b) = S_ab;
-      if (b < a) S.block<3, 3>(3 * b, 3 * a) = S_ab.transpose();
-    }
-  }
-  const Eigen::LLT<RowsMatrix> llt(S);
-  if (llt.info() != Eigen::Success) return false;  // the contract: the update is skipped
-  const Matrix18xRows K = llt.solve(N.transpose()).transpose();  // K = P H^T S^-1
-  x_.noalias() += K.lazyProduct(y);
-  josephUpdate(P_, K, N, S);
-  return true;
 }
 
 EstimateSample LinearKf::estimate() const {

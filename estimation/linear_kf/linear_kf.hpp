@@ -106,9 +106,6 @@ using Matrix3x18 = Eigen::Matrix<double, 3, kDim>;
 using Matrix6 = Eigen::Matrix<double, 6, 6>;
 // The stacked measurement of one sample: every stance foot and the velocity, at most 15 rows.
 constexpr int kMaxRows = 3 * kFeet + 3;
-using RowsVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxRows, 1>;
-using RowsMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxRows, kMaxRows>;
-using Matrix18xRows = Eigen::Matrix<double, kDim, Eigen::Dynamic, 0, kDim, kMaxRows>;
 using ContactMask = std::array<bool, kFeet>;  // true: foot in stance
 
 // Process-noise densities of the model (continuous time, discretised by the functions below).
@@ -140,11 +137,22 @@ double footNoiseVariance(double dt, bool in_stance, const ProcessNoise& noise);
 Matrix3x18 footMeasurementMatrix(int i);
 // H_v = [0 I 0 ... 0].
 Matrix3x18 velocityMeasurementMatrix();
-// The Joseph update for an m-row measurement (m <= 15), given N = P H^T, S = H N + R and a
-// gain K:
+// The Joseph update for an m-row measurement, given N = P H^T (18 x m), S = H N + R and a gain K:
 //   P <- P + K V^T + V K^T,  V = K S / 2 - N,
 // which is (I - K H) P (I - K H)^T + K R K^T expanded, for any K (the filter passes N S^-1).
-void josephUpdate(Matrix18& P, const Matrix18xRows& K, const Matrix18xRows& N, const RowsMatrix& S);
+// The filter calls it with fixed-size matrices (m = 3 per stacked block), so it never allocates.
+template <typename GainType, typename NType, typename SType>
+void josephUpdate(Matrix18& P, const Eigen::MatrixBase<GainType>& K,
+                  const Eigen::MatrixBase<NType>& N, const Eigen::MatrixBase<SType>& S) {
+  // (I - K H) P (I - K H)^T + K R K^T = P - K N^T - N K^T + K S K^T = P + K V^T + V K^T
+  // (K V^T + V K^T is formed before it is added, so that P stays exactly symmetric.)
+  Eigen::Matrix<double, kDim, GainType::ColsAtCompileTime, 0, kDim, GainType::MaxColsAtCompileTime>
+      V = -N;
+  V.noalias() += 0.5 * K.lazyProduct(S);  // coefficient-wise products: the inner size is small
+  Matrix18 W;
+  W.noalias() = K.lazyProduct(V.transpose());
+  P += W + W.transpose();
+}
 
 // The diagonal block of R for stance foot i:
 //   R_ii = R_hat Cov(r) R_hat^T + [R_hat r]_x Sigma_theta [R_hat r]_x^T.
