@@ -53,7 +53,8 @@
 // (the last from dz_i = R_hat dr_i and dz_v = -R_hat [w]_x dr_bar; its transpose for (v, i)).
 // Processing the blocks one after the other with their diagonal R_aa alone would drop the
 // off-diagonal blocks and claim more information than there is (the tests measure by how much).
-// The stacked matrices are fixed-capacity Eigen (at most 15 rows): no allocation.
+// The stacked matrices are fixed-size Eigen, one instantiation per number of 3-row blocks (1 to
+// 5): no allocation.
 //
 // Covariance update in Joseph form, P <- (I - K H) P (I - K H)^T + K R K^T, expanded with
 // N = P H^T (18 x m) and S = H N + R:
