@@ -225,6 +225,37 @@ TEST_CASE("AngleSeries against long-double references on a dense grid", "[lie][s
   }
 }
 
+// The constructor SE_K(3)'s Log uses, AngleSeries(theta, sin theta, cos theta): G_1 and G_2 by
+// division (1 - cos theta = sin^2 theta/(1 + cos theta) while cos theta > 0), a two-term series
+// below theta^2 = 1e-10, and everything else derived from them. Same grid and tolerance as above,
+// plus both sides of its own switch theta = 1e-5 and of cos theta = 0.
+TEST_CASE("AngleSeries from theta, sin theta and cos theta", "[lie][series]") {
+  const double tol = 4e-15;
+  std::vector<double> thetas;
+  for (const double x : gridOfX()) thetas.push_back(std::sqrt(x));
+  for (const double sw : {1e-5, M_PI / 2}) {
+    for (const double rel : {0.0, 1e-15, 1e-9, 1e-6, 1e-3}) {
+      thetas.push_back(sw * (1 + rel));
+      thetas.push_back(sw * (1 - rel));
+    }
+  }
+  const std::vector<Coefficient> all = coefficients();
+  for (const double theta : thetas) {
+    const lie::AngleSeries<double> a(theta, std::sin(theta), std::cos(theta));
+    const LD x = LD(theta) * LD(theta);
+    const double values[] = {a.G<1>(), a.G<2>(), a.G<3>(),  a.G<4>(),
+                             a.G<5>(), a.G<6>(), a.jlInvD()};
+    const std::size_t index[] = {0, 1, 2, 3, 4, 5, 10};  // G1..G6 and D in coefficients()
+    for (int i = 0; i < 7; ++i) {
+      const Coefficient& c = all[index[i]];
+      const LD ref = c.reference(x);
+      const LD err = std::abs(LD(values[i]) - ref);
+      CAPTURE(c.name, theta, double(ref), values[i]);
+      CHECK((err <= tol * std::abs(ref) || err <= 4 * conditioningFloor(c, x)));
+    }
+  }
+}
+
 // The switch points of AngleSeries must not leave a visible step: the values just below and
 // just above agree as closely as the function's own slope allows (for G_1 at theta = pi, where
 // G_1 ~ 0: within the conditioning floor of the dense test, on each side).

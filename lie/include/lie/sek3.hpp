@@ -171,8 +171,8 @@ class SEK3 {
   }
 
   Tangent Log(Jacobian* J_out_this = nullptr) const {
-    const Vector3 phi = SO3Type::logOfMatrix(R_);
-    const AngleSeries<Scalar> c(phi.squaredNorm());
+    AngleSeries<Scalar> c(Scalar(0));
+    const Vector3 phi = SO3Type::logOfMatrix(R_, &c);
     Tangent xi(dof());
     xi.template head<3>() = phi;
     rhoOf(xi, numCols()).noalias() = jlInv(phi, c) * C_;

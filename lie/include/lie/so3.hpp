@@ -197,7 +197,8 @@ class SO3 {
   // The axis is s/|s| unless theta is near pi, where s vanishes and its rounding would tilt the
   // axis; there (c < kNearPiCos) the axis is the column of the symmetric part
   // (R + R^T)/2 - c I = (1 - c) u u^T with the largest diagonal entry, signed to agree with s.
-  static Tangent logOfMatrix(const Matrix& R) {
+  // Optionally hands back the AngleSeries of theta, built from sin theta and cos theta.
+  static Tangent logOfMatrix(const Matrix& R, AngleSeries<Scalar>* series = nullptr) {
     using std::asin;
     using std::sqrt;
     constexpr Scalar pi = Scalar(3.141592653589793238462643383279502884L);
@@ -207,6 +208,7 @@ class SO3 {
     const bool nearAxis = n < (c < Scalar(0) ? -c : c);  // theta within pi/4 of 0 or of pi
     const Scalar a = asin(nearAxis ? n : c);
     const Scalar theta = nearAxis ? (c > Scalar(0) ? a : pi - a) : pi / Scalar(2) - a;
+    if (series) *series = AngleSeries<Scalar>(theta, n, c);
     if (c >= kNearPiCos) return (n > Scalar(0) ? theta / n : Scalar(1)) * s;  // theta/sin theta
     // Column i of the symmetric part, i the largest diagonal entry: (1 - c) u_i u.
     int i = R(1, 1) > R(0, 0) ? 1 : 0;
