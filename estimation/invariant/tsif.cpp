@@ -152,6 +152,56 @@ void shareBias(int b, Matrix27& H11, Matrix27& H12, Matrix27& H22, Vector27& b1,
   b1.segment<3>(b).setZero();
 }
 
+// The marginal information of x_{k+1} given the prior on x_k (information H_prior, already in
+// x_k's linearisation) and the residuals between the two states, in covariance form (Woodbury):
+//   J_1^T (Q + J_0 P_0 J_0^T)^-1 J_1,   P_0 = H_prior^-1,   Q = W^-1.
+// Equal to the Schur complement of the normal equations in exact arithmetic; here no term of
+// 1e14 (the IMU's weight on position) is subtracted from another to leave a remainder of order 1
+// (the information on an unobservable position after minutes). A foot that touched down (no
+// information on x_k) has no between-residual that says anything: its rows are left out.
+Matrix27 betweenMarginal(const Matrix27& H_prior, const ImuResidual& e, const model::ImuNoise& n,
+                         double dt, const std::array<double, kFeet>& foot_density,
+                         const std::array<bool, kFeet>& forgotten) {
+  const Matrix3 I = Matrix3::Identity();
+  Matrix27 Lambda = H_prior;
+  for (int i = 0; i < kFeet; ++i)
+    if (forgotten[i]) Lambda.block<3, 3>(footIndex(i), footIndex(i)) = I;
+  Matrix27 P0 = Lambda.llt().solve(Matrix27::Identity());
+  Matrix27 J0 = Matrix27::Zero(), J1 = Matrix27::Identity(), Q = Matrix27::Zero();
+  for (int a = 0; a < 5; ++a) {
+    for (int b = 0; b < 5; ++b) {
+      J0.block<3, 3>(kNav[a], kNav[b]) = e.J_x0.block<3, 3>(3 * a, 3 * b);
+      J1.block<3, 3>(kNav[a], kNav[b]) = e.J_x1.block<3, 3>(3 * a, 3 * b);
+    }
+  }
+  const double var_a = n.accel_noise_density * n.accel_noise_density;
+  Q.block<3, 3>(kTheta, kTheta) = n.gyro_noise_density * n.gyro_noise_density * dt * I;
+  Q.block<3, 3>(kV, kV) = var_a * dt * I;
+  Q.block<3, 3>(kV, kP) = Q.block<3, 3>(kP, kV) = var_a * dt * dt / 2.0 * I;
+  Q.block<3, 3>(kP, kP) = var_a * dt * dt * dt / 3.0 * I;
+  Q.block<3, 3>(kBg, kBg) = n.gyro_bias_random_walk * n.gyro_bias_random_walk * dt * I;
+  Q.block<3, 3>(kBa, kBa) = n.accel_bias_random_walk * n.accel_bias_random_walk * dt * I;
+  for (int i = 0; i < kFeet; ++i) {
+    J0.block<3, 3>(footIndex(i), footIndex(i)) = -I;
+    Q.block<3, 3>(footIndex(i), footIndex(i)) = foot_density[i] * foot_density[i] * dt * I;
+  }
+  Matrix27 M = Q;
+  M.noalias() += J0 * P0 * J0.transpose();
+  for (int i = 0; i < kFeet; ++i) {
+    if (!forgotten[i]) continue;
+    M.middleRows<3>(footIndex(i)).setZero();
+    M.middleCols<3>(footIndex(i)).setZero();
+    M.block<3, 3>(footIndex(i), footIndex(i)) = I;
+  }
+  Matrix27 Minv = M.llt().solve(Matrix27::Identity());
+  for (int i = 0; i < kFeet; ++i) {
+    if (!forgotten[i]) continue;
+    Minv.middleRows<3>(footIndex(i)).setZero();
+    Minv.middleCols<3>(footIndex(i)).setZero();
+  }
+  return J1.transpose() * Minv * J1;
+}
+
 }  // namespace
 
 Tsif::Tsif(const TsifParams& params) : params_(params) {
@@ -234,10 +284,13 @@ void Tsif::step(const StepInput& raw) {
 
   // Weights of this step.
   const Matrix15 W_imu = imuWeight(params_.imu, dt);
-  std::array<double, kFeet> w_c{};  // foot residual d_{k+1} - d_k: w_c I = (density^2 dt)^-1 I
+  std::array<double, kFeet> foot_density{};  // of the foot residual d_{k+1} - d_k
+  std::array<double, kFeet> w_c{};           // its weight: w_c I = (density^2 dt)^-1 I
+  std::array<bool, kFeet> touched_down{};
   for (int i = 0; i < kFeet; ++i) {
-    const double density = contact[i] ? params_.foot_stance_density : params_.foot_swing_density;
-    w_c[i] = 1.0 / (density * density * dt);
+    foot_density[i] = contact[i] ? params_.foot_stance_density : params_.foot_swing_density;
+    w_c[i] = 1.0 / (foot_density[i] * foot_density[i] * dt);
+    touched_down[i] = contact[i] && !in_contact_[i];
   }
   std::array<Eigen::Matrix3d, kFeet> W_kin{};  // Cov_i^-1 of the kinematics of stance feet
   for (int i = 0; i < kFeet; ++i) {
@@ -248,7 +301,10 @@ void Tsif::step(const StepInput& raw) {
     W_kin[i] = cov.llt().solve(Eigen::Matrix3d::Identity());
   }
 
-  Matrix27 S;  // the reduced (marginal) information of x1 of the last iteration
+  // The linearisation of the last iteration, from which the new information is formed.
+  Matrix27 H_prior;  // the prior's information in x0's tangent
+  ImuResidual e;     // the IMU residual and its Jacobians
+  Matrix27 H_kin;    // the kinematics residuals' information on x1
   for (int iteration = 0; iteration < params_.iterations; ++iteration) {
     // Normal equations [H11 H12; H12^T H22] [dx0; dx1] = -[b1; b2].
     Matrix27 H11, H12, H22;
@@ -265,9 +321,10 @@ void Tsif::step(const StepInput& raw) {
     H11.topRows<3>() = (A.transpose() * H11.topRows<3>()).eval();
     b1 = Lambda0 * r0;
     b1.head<3>() = (A.transpose() * b1.head<3>()).eval();
+    H_prior = H11;
 
     // IMU between x0 and x1.
-    const ImuResidual e = imuResidual(x0, x1, previous_, dt, params_.gravity);
+    e = imuResidual(x0, x1, previous_, dt, params_.gravity);
     // J_x1 is the identity but for its attitude block A1 = JrInv(r_R), and W_imu does not couple
     // r_R with the other rows: the products with J_x1 are W_imu with A1 applied to the attitude.
     const Matrix15 WJ0 = W_imu * e.J_x0;
@@ -296,6 +353,7 @@ void Tsif::step(const StepInput& raw) {
     }
 
     // Kinematics of the stance feet at k+1, over (dtheta, dp, dd_i) of x1.
+    H_kin.setZero();
     for (int i = 0; i < kFeet; ++i) {
       if (!contact[i]) continue;
       Matrix39 J;
@@ -307,21 +365,22 @@ void Tsif::step(const StepInput& raw) {
       for (int a = 0; a < 3; ++a) {
         b2.segment<3>(blocks[a]) += m.segment<3>(3 * a);
         for (int b = 0; b < 3; ++b)
-          H22.block<3, 3>(blocks[a], blocks[b]) += M.block<3, 3>(3 * a, 3 * b);
+          H_kin.block<3, 3>(blocks[a], blocks[b]) += M.block<3, 3>(3 * a, 3 * b);
       }
     }
+    H22 += H_kin;
 
     if (params_.imu.gyro_bias_random_walk == 0.0) shareBias(kBg, H11, H12, H22, b1, b2);
     if (params_.imu.accel_bias_random_walk == 0.0) shareBias(kBa, H11, H12, H22, b1, b2);
 
     // Eliminate x0 with H11 = L L^T: Y = L^-1 H12, z = L^-1 b1, and the reduced (marginal)
-    // information S = H22 - H12^T H11^-1 H12 = H22 - Y^T Y.
+    // information S = H22 - H12^T H11^-1 H12 = H22 - Y^T Y, which gives the step of x1.
     const Eigen::LLT<Matrix27> llt11(H11);
     Matrix27 Y = H12;
     llt11.matrixL().solveInPlace(Y);
     Vector27 z = b1;
     llt11.matrixL().solveInPlace(z);
-    S = H22;
+    Matrix27 S = H22;
     S.selfadjointView<Eigen::Lower>().rankUpdate(Y.transpose(), -1.0);
     S = S.selfadjointView<Eigen::Lower>();
     const Eigen::LLT<Matrix27> llt22(S);
@@ -345,7 +404,11 @@ void Tsif::step(const StepInput& raw) {
 
   x1.R = lie::SO3d::fromQuaternion(x1.R.quaternion());  // remove rounding drift
   x_ = x1;
-  Lambda_ = S;
+  // The new information: S again, but in covariance form (betweenMarginal), where rounding does
+  // not eat the small information of the unobservable states.
+  Lambda_ = betweenMarginal(H_prior, e, params_.imu, dt, foot_density, touched_down);
+  Lambda_ += H_kin;
+  Lambda_ = 0.5 * (Lambda_ + Lambda_.transpose()).eval();
   for (int i = 0; i < kFeet; ++i) in_contact_[i] = contact[i] != nullptr;
   finishStep(in, imu_admitted);
 }
