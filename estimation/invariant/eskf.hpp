@@ -82,22 +82,9 @@ namespace legkit::invariant {
 
 namespace eskf {
 
-// The state, its error vector, the strapdown step and h_i are the TSIF's too (nominal_state.hpp).
-using nominal::footInBody;
-using nominal::footIndex;
-using nominal::kBa;
-using nominal::kBg;
-using nominal::kD;
-using nominal::kDim;
-using nominal::kFeet;
-using nominal::kP;
-using nominal::kTheta;
-using nominal::kV;
-using nominal::Matrix27;
-using nominal::Matrix39;
-using nominal::propagate;
-using nominal::State;
-using nominal::Vector27;
+// The state, its error vector, the strapdown step and h_i are the TSIF's too: this namespace
+// extends the shared one (nominal_state.hpp), so eskf::State is nominal::State.
+using namespace nominal;  // NOLINT(google-build-using-namespace)
 
 // F of d(dx)/dt = F dx + G n at the estimate x and input u (file comment): the chapter's
 // state-dependent error dynamics, for analysis and teaching (the filter uses Phi below).

@@ -93,20 +93,9 @@ namespace legkit::invariant {
 
 namespace tsif {
 
-// The state, its error vector, the strapdown step and h_i are the ESKF's too (nominal_state.hpp).
-using nominal::footIndex;
-using nominal::kBa;
-using nominal::kBg;
-using nominal::kD;
-using nominal::kDim;
-using nominal::kFeet;
-using nominal::kP;
-using nominal::kTheta;
-using nominal::kV;
-using nominal::Matrix27;
-using nominal::Matrix39;
-using nominal::State;
-using nominal::Vector27;
+// The state, its error vector, the strapdown step and h_i are the ESKF's too: this namespace
+// extends the shared one (nominal_state.hpp), so tsif::State is nominal::State.
+using namespace nominal;  // NOLINT(google-build-using-namespace)
 
 constexpr double kMinDt = 1e-5;             // [s] shorter steps are carried over to the next one
 constexpr double kMinFootVariance = 1e-12;  // [m^2] (1 um)^2 added to every kinematics covariance
