@@ -1,7 +1,6 @@
 #include "estimation/linear_kf/linear_kf.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <lie/so3.hpp>
