@@ -1,14 +1,11 @@
 // The linear Kalman filter of section 57.4 and its attitude filter: F, B, Q, H, R against hand
 // values, the prediction against exact kinematics, one step against the exact stacked update
 // (and the old sequential one against it), the Joseph update for any gain, whole runs on simulated
-// trots, bad input, no allocation in step(), and Monte Carlo NEES.
+// trots, bad input, and Monte Carlo NEES.
 #include <catch2/catch.hpp>
 
 #include <Eigen/Eigenvalues>
-#include <atomic>
-#include <cstdlib>
 #include <limits>
-#include <new>
 #include <random>
 #include <sstream>
 
@@ -20,74 +17,16 @@
 #include "eval/runner.hpp"
 #include "lie/so3.hpp"
 #include "sim/simulator.hpp"
-
-// Counts every heap allocation of this program, to show that LinearKf::step makes none.
-namespace {
-std::atomic<long> g_allocations{0};
-}
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  return operator new(size);
-}
-// The nothrow forms too (Catch uses them): every form must pair with the free() below, or a
-// sanitizer build reports an allocation/deallocation mismatch.
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  ++g_allocations;
-  return std::malloc(size == 0 ? 1 : size);
-}
-void* operator new[](std::size_t size, const std::nothrow_t& tag) noexcept {
-  return operator new(size, tag);
-}
-void operator delete(void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
+#include "trot_log.hpp"
 
 using namespace legkit;
 using namespace legkit::linear_kf;
+using legkit::test::inputsOf;
+using legkit::test::trotLog;
 
 namespace {
 
 const Eigen::Matrix3d I3 = Eigen::Matrix3d::Identity();
-
-io::Log trotLog(double duration, unsigned seed, bool noiseless,
-                const model::ImuBias& bias = model::ImuBias{}) {
-  sim::SimOptions options;
-  options.scenario = sim::scenarioByName("trot");
-  options.duration = duration;
-  options.seed = seed;
-  options.initial_bias = bias;
-  if (noiseless) options.noiseless();
-  return sim::simulate(options).log;
-}
-
-std::vector<StepInput> inputsOf(const io::Log& log, const FrontendNoise& noise = {}) {
-  const LogFrontend frontend(log.layout, model::QuadrupedKinematics(), noise);
-  std::vector<StepInput> inputs;
-  for (std::size_t k = 0; k < log.rows.size(); ++k) {
-    const double dt = k == 0 ? 0.0 : log.rows[k].t - log.rows[k - 1].t;
-    inputs.push_back(frontend.input(log.rows[k], dt));
-  }
-  return inputs;
-}
 
 double minEigenvalue(const Matrix18& P) {
   return Eigen::SelfAdjointEigenSolver<Matrix18>(P).eigenvalues().minCoeff();
@@ -523,18 +462,6 @@ TEST_CASE("LKF: P stays symmetric positive definite; covariance() reorders", "[5
     REQUIRE(cov.P.topLeftCorner<3, 3>() == filter.attitude().attitudeCovariance());
     REQUIRE(cov.P.block<3, 6>(0, 3).cwiseAbs().maxCoeff() == 0.0);
   }
-}
-
-TEST_CASE("LKF: step() never allocates", "[57.4][linear_kf]") {
-  const io::Log log = trotLog(1.0, 8, false);
-  const std::vector<StepInput> inputs = inputsOf(log);
-  LinearKf filter;
-  filter.reset(eval::initialState(log));
-  const long before = g_allocations.load();
-  for (const StepInput& in : inputs) filter.step(in);
-  const long after = g_allocations.load();
-  CHECK(after - before == 0);
-  CHECK(filter.estimate().t == log.rows.back().t);  // it did run
 }
 
 TEST_CASE("LKF: bad input throws and leaves the state untouched", "[57.4][linear_kf]") {
