@@ -1,6 +1,6 @@
 // Time per step of the linear Kalman filter (section 57.4) on 10 s of the default trot
-// (bench/trot_inputs.hpp): attitude filter, prediction, one 3 x 3 update per stance foot and the
-// leg-odometry velocity update. Variants switch the velocity update and the attitude terms off.
+// (bench/trot_inputs.hpp): attitude filter, prediction, and one stacked update of the stance feet
+// and the leg-odometry velocity. Variants switch the velocity update and the attitude terms off.
 #include <benchmark/benchmark.h>
 
 #include "bench/trot_inputs.hpp"
