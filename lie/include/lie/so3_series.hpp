@@ -13,15 +13,16 @@
 // and their derivatives are again G's:  (1/theta) dG_m/dtheta = m G_{m+2} - G_{m+1}.
 //
 // Accuracy. G_1 and G_2 come from sin(theta/2)/(theta/2) and cos(theta/2), which never cancel
-// (1 - cos theta = 2 sin^2(theta/2)). For theta < pi both are summed as Taylor series in
-// (theta/2)^2 <= pi^2/4, with enough terms (11 and 12) that the first omitted one is below 1e-19:
-// no square root, no sin or cos, no division. Beyond pi they come from std::sin and std::cos of
-// the half angle. For m >= 3 the closed form subtracts nearly equal numbers, and each step of the
-// recurrence multiplies the relative error by about (m-1) m / theta^2. Measured against a
-// long-double series, the closed forms stay within 4e-16 (relative) from theta = 1 for G_3, 1.5
-// for G_4 and 2.5 for G_5 and G_6; below those switch points the Taylor series is summed instead,
-// with just enough terms (8, 9, 11) that the first omitted term is below 1e-17.
-// tests/lie/series_test.cpp checks both sides of every switch against a long-double reference.
+// (1 - cos theta = 2 sin^2(theta/2)). For theta < pi these come from sin(q)/q and cos(q) of the
+// quarter angle q = theta/4, summed as Taylor series in q^2 <= pi^2/16 with 9 terms each (the
+// first omitted one is below 1e-17 of the sum): no square root, no sin or cos, no division.
+// Beyond pi they come from std::sin and std::cos of the half angle. For m >= 3 the closed form
+// subtracts nearly equal numbers, and each step of the recurrence multiplies the relative error by
+// about (m-1) m / theta^2. Measured against a long-double series, the closed forms stay within
+// 4e-16 (relative) from theta = 1 for G_3, 1.5 for G_4 and 2.5 for G_5 and G_6; below those switch
+// points the Taylor series is summed instead, with just enough terms (8, 9, 11) that the first
+// omitted term is below 1e-17. tests/lie/series_test.cpp checks both sides of every switch against
+// a long-double reference.
 #pragma once
 
 #include <array>
@@ -70,13 +71,16 @@ class AngleSeries {
     using std::sin;
     using std::sqrt;
     if (x_ < kHalfAngleSeriesX) {
-      // With h = theta/2: sin(h)/h and cos(h), summed in h^2 = x/4 (see the file comment).
-      static constexpr auto sincCoefficients = detail::gCoefficients<1, 11>();  // 1/(2k+1)!
-      static constexpr auto cosCoefficients = detail::gCoefficients<0, 12>();   // 1/(2k)!
-      const Scalar h2 = x_ / Scalar(4);
-      const Scalar sinc = detail::alternatingSeries(h2, sincCoefficients);
-      g1_ = sinc * detail::alternatingSeries(h2, cosCoefficients);  // sin(2h)/2h = sinc(h) cos h
-      g2_ = sinc * sinc / Scalar(2);  // (1 - cos 2h)/4h^2 = 2 sin^2(h)/4h^2
+      // With q = theta/4: sin(q)/q and cos(q), summed in q^2 = x/16 (see the file comment), then
+      // doubled to the half angle h = 2q: sin(h)/h = sinc(q) cos(q), cos h = 1 - 2 q^2 sinc(q)^2.
+      static constexpr auto sincCoefficients = detail::gCoefficients<1, 9>();  // 1/(2k+1)!
+      static constexpr auto cosCoefficients = detail::gCoefficients<0, 9>();   // 1/(2k)!
+      const Scalar q2 = x_ / Scalar(16);
+      const Scalar sincQ = detail::alternatingSeries(q2, sincCoefficients);
+      const Scalar sincH = sincQ * detail::alternatingSeries(q2, cosCoefficients);
+      const Scalar cosH = Scalar(1) - x_ / Scalar(8) * sincQ * sincQ;
+      g1_ = sincH * cosH;               // sin(2h)/2h = sinc(h) cos h
+      g2_ = sincH * sincH / Scalar(2);  // (1 - cos 2h)/4h^2 = 2 sin^2(h)/4h^2
     } else {
       const Scalar theta = sqrt(x_), s = sin(theta / 2), c = cos(theta / 2);
       g1_ = Scalar(2) * s * c / theta;  // sin(theta)/theta
