@@ -202,6 +202,29 @@ Matrix27 betweenMarginal(const Matrix27& H_prior, const ImuResidual& e, const mo
   return J1.transpose() * Minv * J1;
 }
 
+// Cov_i^-1 of a stance foot's kinematics. The variance floor keeps the normal equations
+// factorisable for any admitted covariance (1e-30 m^2 would weigh 1e30 against a prior of ~1e4).
+Eigen::Matrix3d kinematicsWeight(const ContactMeasurement& c) {
+  const Eigen::Matrix3d cov = c.cov + kMinFootVariance * Eigen::Matrix3d::Identity();
+  return cov.llt().solve(Eigen::Matrix3d::Identity());
+}
+
+// Adds the kinematics residual of stance foot i at x, weight W, to the normal equations H dx = -g
+// over (dtheta, dp, dd_i).
+void addKinematics(const State& x, int i, const ContactMeasurement& c, const Eigen::Matrix3d& W,
+                   Matrix27& H, Vector27& g) {
+  Matrix39 J;
+  const Eigen::Vector3d r = kinematicsResidual(x, i, c.p_body, &J);
+  const Eigen::Matrix<double, 9, 3> JtW = J.transpose() * W;
+  const Eigen::Matrix<double, 9, 9> M = JtW * J;
+  const Eigen::Matrix<double, 9, 1> m = JtW * r;
+  const std::array<int, 3> blocks = {kTheta, kP, footIndex(i)};
+  for (int a = 0; a < 3; ++a) {
+    g.segment<3>(blocks[a]) += m.segment<3>(3 * a);
+    for (int b = 0; b < 3; ++b) H.block<3, 3>(blocks[a], blocks[b]) += M.block<3, 3>(3 * a, 3 * b);
+  }
+}
+
 }  // namespace
 
 Tsif::Tsif(const TsifParams& params) : params_(params) {
@@ -261,9 +284,19 @@ void Tsif::step(const StepInput& raw) {
   const double dt = in.dt + pending_dt_;
   if (!has_previous_ || dt < kMinDt) {
     pending_dt_ = has_previous_ ? dt : 0.0;
-    // No pair to solve yet. A foot that lifts off is out of contact; one that touches down is
-    // placed at the next solved step (a foot without information needs this step's residual).
-    for (int i = 0; i < kFeet; ++i) in_contact_[i] = in_contact_[i] && contact[i] != nullptr;
+    // No pair to solve yet. A foot that touches down is forgotten and placed at its kinematics,
+    // d = p + R p_body, whose residual, zero at that mean, is then all its information (the
+    // ESKF's initialisation of a foot, in information form).
+    for (int i = 0; i < kFeet; ++i) {
+      if (contact[i] && !in_contact_[i]) {
+        forgetFoot(Lambda_, i);
+        x_.d[i] = x_.p + x_.R * contact[i]->p_body;
+        Vector27 g = Vector27::Zero();  // zero: the residual vanishes at the new foot
+        addKinematics(x_, i, *contact[i], kinematicsWeight(*contact[i]), Lambda_, g);
+      }
+      in_contact_[i] = contact[i] != nullptr;
+    }
+    Lambda_ = 0.5 * (Lambda_ + Lambda_.transpose()).eval();
     finishStep(in, imu_admitted);
     return;
   }
@@ -293,18 +326,14 @@ void Tsif::step(const StepInput& raw) {
     touched_down[i] = contact[i] && !in_contact_[i];
   }
   std::array<Eigen::Matrix3d, kFeet> W_kin{};  // Cov_i^-1 of the kinematics of stance feet
-  for (int i = 0; i < kFeet; ++i) {
-    if (!contact[i]) continue;
-    // The variance floor keeps the normal equations factorisable for any admitted covariance
-    // (1e-30 m^2 would weigh 1e30 against a prior of ~1e4).
-    const Eigen::Matrix3d cov = contact[i]->cov + kMinFootVariance * Eigen::Matrix3d::Identity();
-    W_kin[i] = cov.llt().solve(Eigen::Matrix3d::Identity());
-  }
+  for (int i = 0; i < kFeet; ++i)
+    if (contact[i]) W_kin[i] = kinematicsWeight(*contact[i]);
 
   // The linearisation of the last iteration, from which the new information is formed.
-  Matrix27 H_prior;  // the prior's information in x0's tangent
-  ImuResidual e;     // the IMU residual and its Jacobians
-  Matrix27 H_kin;    // the kinematics residuals' information on x1
+  Matrix27 H_prior;                                   // the prior's information in x0's tangent
+  ImuResidual e;                                      // the IMU residual and its Jacobians
+  Matrix27 H_kin;                                     // the kinematics residuals' information on x1
+  Eigen::Vector3d dtheta1 = Eigen::Vector3d::Zero();  // the attitude step of x1
   for (int iteration = 0; iteration < params_.iterations; ++iteration) {
     // Normal equations [H11 H12; H12^T H22] [dx0; dx1] = -[b1; b2].
     Matrix27 H11, H12, H22;
@@ -354,20 +383,8 @@ void Tsif::step(const StepInput& raw) {
 
     // Kinematics of the stance feet at k+1, over (dtheta, dp, dd_i) of x1.
     H_kin.setZero();
-    for (int i = 0; i < kFeet; ++i) {
-      if (!contact[i]) continue;
-      Matrix39 J;
-      const Eigen::Vector3d r = kinematicsResidual(x1, i, contact[i]->p_body, &J);
-      const Eigen::Matrix<double, 9, 3> JtW = J.transpose() * W_kin[i];
-      const Eigen::Matrix<double, 9, 9> M = JtW * J;
-      const Eigen::Matrix<double, 9, 1> m = JtW * r;
-      const std::array<int, 3> blocks = {kTheta, kP, footIndex(i)};
-      for (int a = 0; a < 3; ++a) {
-        b2.segment<3>(blocks[a]) += m.segment<3>(3 * a);
-        for (int b = 0; b < 3; ++b)
-          H_kin.block<3, 3>(blocks[a], blocks[b]) += M.block<3, 3>(3 * a, 3 * b);
-      }
-    }
+    for (int i = 0; i < kFeet; ++i)
+      if (contact[i]) addKinematics(x1, i, *contact[i], W_kin[i], H_kin, b2);
     H22 += H_kin;
 
     if (params_.imu.gyro_bias_random_walk == 0.0) shareBias(kBg, H11, H12, H22, b1, b2);
@@ -400,6 +417,7 @@ void Tsif::step(const StepInput& raw) {
     if (params_.imu.accel_bias_random_walk == 0.0) dx0.segment<3>(kBa) = dx1.segment<3>(kBa);
     x0 = x0.plus(dx0);
     x1 = x1.plus(dx1);
+    dtheta1 = dx1.segment<3>(kTheta);
   }
 
   x1.R = lie::SO3d::fromQuaternion(x1.R.quaternion());  // remove rounding drift
@@ -408,6 +426,12 @@ void Tsif::step(const StepInput& raw) {
   // not eat the small information of the unobservable states.
   Lambda_ = betweenMarginal(H_prior, e, params_.imu, dt, foot_density, touched_down);
   Lambda_ += H_kin;
+  // That information is in the tangent at x1 before its step; moved to the tangent at x1 (+) dx1
+  // (the ESKF's reset): dtheta+ = G dtheta, G = I - [dtheta1 / 2]_x, so Lambda <- G^-T Lambda G^-1.
+  const Eigen::Matrix3d G_inv =
+      (Eigen::Matrix3d::Identity() - lie::hat3(Eigen::Vector3d(0.5 * dtheta1))).inverse();
+  Lambda_.leftCols<3>() = (Lambda_.leftCols<3>() * G_inv).eval();
+  Lambda_.topRows<3>() = (G_inv.transpose() * Lambda_.topRows<3>()).eval();
   Lambda_ = 0.5 * (Lambda_ + Lambda_.transpose()).eval();
   for (int i = 0; i < kFeet; ++i) in_contact_[i] = contact[i] != nullptr;
   finishStep(in, imu_admitted);

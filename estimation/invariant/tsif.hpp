@@ -49,6 +49,10 @@
 // from the same Jacobians in covariance form: by the matrix inversion lemma,
 //   Lambda_{k+1} = J_1^T (Q + J_0 Lambda_k^-1 J_0^T)^-1 J_1 + (kinematics information),
 // J_0, J_1 the Jacobians of the residuals between the two states (IMU and feet), Q their noise.
+// That information is in the tangent at x_{k+1} before its step dx; it is moved to the tangent at
+// x_{k+1} (+) dx as the ESKF's reset does (Lambda <- G^-T Lambda G^-1, G = I - [dtheta/2]_x).
+// With one iteration the filter is then the ESKF: run side by side on a trot, the two agree to
+// about 1e-6 (correlation units) after 60 s, where without the reset they drifted apart by 3e-2.
 // Every matrix is fixed-size Eigen: step() never allocates. Ceres was the other candidate;
 // building a ceres::Problem, its residual blocks and its sparse linear solver anew 1000 times a
 // second costs allocations and far more time than these few dense 27 x 27 factorisations, and
@@ -65,8 +69,8 @@
 // 300 s made the filter over-confident in position (ANEES/dof 3.5 on 2 runs; chapter 57.10).
 //
 // At the first sample (dt = 0, no previous IMU reading) there is no pair to solve: the filter
-// stores the reading, and the feet in contact touch down at the next solved step (likewise for
-// any later step shorter than kMinDt).
+// stores the reading and places the feet that touch down, forgotten, at d = p + R p_body, with
+// their kinematics as their only information (likewise for any later step shorter than kMinDt).
 //
 // Numerics: at 1 kHz the IMU weight on position, 12 / (sigma_a^2 dt^3), is about 1e13, while a
 // swing foot's information is of order 1: the information form is badly scaled by nature.

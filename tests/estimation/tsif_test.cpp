@@ -363,25 +363,30 @@ TEST_CASE("TSIF: a touchdown tells the filter nothing about the base", "[57.5][t
   // A foot that touches down is new: only its own kinematics place it, so the base's estimate
   // and covariance after the step are those of the same step without the contact. (A prior on
   // the new foot, however weak, would add information here; at eight touchdowns a second it
-  // made the filter over-confident in position over minutes.)
+  // made the filter over-confident in position over minutes.) Both kinds of step: the first
+  // sample (no pair to solve) and a solved step.
   const io::Log log = trotLog(0.01, 2, false);
-  const std::vector<StepInput> inputs = inputsOf(log);
-  REQUIRE(inputs[1].num_contacts == 4);  // standing: every foot touches down at the first pair
-  StepInput without = inputs[1];
-  without.num_contacts = 0;
-  Tsif touchdown, flight;
-  for (Tsif* filter : {&touchdown, &flight}) {
-    filter->reset(eval::initialState(log));
-    filter->step(inputs[0]);
+  std::vector<StepInput> inputs = inputsOf(log);
+  REQUIRE(inputs[0].num_contacts == 4);  // standing: every foot is down
+  for (const std::size_t k : {0, 1}) {
+    if (k == 1) inputs[0].num_contacts = 0;  // the feet touch down at the first solved step
+    StepInput without = inputs[k];
+    without.num_contacts = 0;
+    Tsif touchdown, flight;
+    for (Tsif* filter : {&touchdown, &flight}) {
+      filter->reset(eval::initialState(log));
+      for (std::size_t j = 0; j < k; ++j) filter->step(inputs[j]);
+    }
+    touchdown.step(inputs[k]);
+    flight.step(without);
+    INFO("touchdown at sample " << k);
+    for (int i = 0; i < tsif::kFeet; ++i) CHECK(touchdown.inContact(i));
+    const Eigen::Matrix<double, 9, 9> P = touchdown.covariance()->P;
+    const Eigen::Matrix<double, 9, 9> P_flight = flight.covariance()->P;
+    CHECK((P - P_flight).norm() < 1e-9 * P_flight.norm());
+    CHECK((touchdown.state().p - flight.state().p).norm() < 1e-12);
+    CHECK(touchdown.state().R.rminus(flight.state().R).norm() < 1e-12);
   }
-  touchdown.step(inputs[1]);
-  flight.step(without);
-  for (int i = 0; i < tsif::kFeet; ++i) CHECK(touchdown.inContact(i));
-  const Eigen::Matrix<double, 9, 9> P = touchdown.covariance()->P;
-  const Eigen::Matrix<double, 9, 9> P_flight = flight.covariance()->P;
-  CHECK((P - P_flight).norm() < 1e-9 * P_flight.norm());
-  CHECK((touchdown.state().p - flight.state().p).norm() < 1e-12);
-  CHECK(touchdown.state().R.rminus(flight.state().R).norm() < 1e-12);
 }
 
 TEST_CASE("TSIF: step() never allocates", "[57.5][tsif]") {
