@@ -222,10 +222,11 @@ class SEK3 {
     const Vector3 phi = xi.template head<3>();
     const AngleSeries<Scalar> c(phi.squaredNorm());
     const Matrix3 J = SO3Type::Jr(-phi, c);
+    const QCoefficients q(c);
     Jacobian out = Jacobian::Zero(3 + 3 * k, 3 + 3 * k);
     for (Eigen::Index i = 0; i <= k; ++i) out.template block<3, 3>(3 * i, 3 * i) = J;
     for (Eigen::Index i = 0; i < k; ++i) {
-      out.template block<3, 3>(3 + 3 * i, 0) = Q(phi, xi.template segment<3>(3 + 3 * i), c);
+      out.template block<3, 3>(3 + 3 * i, 0) = Q(phi, xi.template segment<3>(3 + 3 * i), q);
     }
     return out;
   }
@@ -235,11 +236,12 @@ class SEK3 {
     const Vector3 phi = xi.template head<3>();
     const AngleSeries<Scalar> c(phi.squaredNorm());
     const Matrix3 Ji = jlInv(phi, c);
+    const QCoefficients q(c);
     Jacobian out = Jacobian::Zero(3 + 3 * k, 3 + 3 * k);
     for (Eigen::Index i = 0; i <= k; ++i) out.template block<3, 3>(3 * i, 3 * i) = Ji;
     for (Eigen::Index i = 0; i < k; ++i) {
       out.template block<3, 3>(3 + 3 * i, 0).noalias() =
-          -Ji * Q(phi, xi.template segment<3>(3 + 3 * i), c) * Ji;
+          -Ji * Q(phi, xi.template segment<3>(3 + 3 * i), q) * Ji;
     }
     return out;
   }
@@ -279,9 +281,18 @@ class SEK3 {
   //   Q = [rho]/2 + G_3 (phi rho^T + rho phi^T - 2a I - a [phi]) + G_4 (2a [phi] - x [rho])
   //       - (G_4 - 3 G_5) a (phi phi^T - x I).
   static Matrix3 Q(const Vector3& phi, const Vector3& rho, const AngleSeries<Scalar>& c) {
-    const Scalar a = phi.dot(rho), x = c.theta2();
-    const Scalar g3 = c.template G<3>(), g4 = c.template G<4>();
-    const Scalar k = -c.G45() * a;  // coefficient of phi phi^T - x I
+    return Q(phi, rho, QCoefficients(c));
+  }
+
+  // The angle-only coefficients of Q, evaluated once for all the columns of a Jacobian.
+  struct QCoefficients {
+    explicit QCoefficients(const AngleSeries<Scalar>& c)
+        : x(c.theta2()), g3(c.template G<3>()), g4(c.template G<4>()), g45(c.G45()) {}
+    Scalar x, g3, g4, g45;  // theta^2, G_3, G_4, G_4 - 3 G_5
+  };
+  static Matrix3 Q(const Vector3& phi, const Vector3& rho, const QCoefficients& q) {
+    const Scalar a = phi.dot(rho), x = q.x, g3 = q.g3, g4 = q.g4;
+    const Scalar k = -q.g45 * a;  // coefficient of phi phi^T - x I
     Matrix3 out = g3 * (phi * rho.transpose() + rho * phi.transpose());
     out += skewSeries(phi, x, -Scalar(2) * g3 * a, Scalar(2) * g4 * a - g3 * a, k);
     out += hat3(Vector3((Scalar(0.5) - g4 * x) * rho));
