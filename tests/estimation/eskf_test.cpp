@@ -548,8 +548,8 @@ EskfParams simulatorParams() {
 
 std::string describe(const NeesResult& r) {
   std::ostringstream os;
-  os << "ANEES over " << r.runs << " runs: mean " << r.mean << " (9 dof), bounds ["
-     << r.bounds.lower << ", " << r.bounds.upper << "], " << 100 * r.fraction
+  os << "ANEES per dof over " << r.runs << " runs: mean " << r.mean / 9 << ", bounds ["
+     << r.bounds.lower / 9 << ", " << r.bounds.upper / 9 << "], " << 100 * r.fraction
      << " % of rows inside";
   return os.str();
 }

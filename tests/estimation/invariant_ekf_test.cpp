@@ -544,8 +544,8 @@ FrontendNoise simulatorFrontend() {
 
 std::string describe(const NeesResult& r) {
   std::ostringstream os;
-  os << "ANEES: mean " << r.mean << " (9 dof), bounds [" << r.bounds.lower << ", " << r.bounds.upper
-     << "], " << 100 * r.fraction << " % of rows inside";
+  os << "ANEES per dof: mean " << r.mean / 9 << ", bounds [" << r.bounds.lower / 9 << ", "
+     << r.bounds.upper / 9 << "], " << 100 * r.fraction << " % of rows inside";
   return os.str();
 }
 
