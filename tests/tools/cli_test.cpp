@@ -290,6 +290,9 @@ TEST_CASE("cli: a study shows its progress, and only outside its results", "[cli
                                                    "consistency: run 3/3\nConsistency on"));
   CHECK(r.output.find('\r') == std::string::npos);
   CHECK_THAT(slurp(dir.path / "out" / "consistency.csv"), !Catch::Matchers::Contains("run "));
+  // The table gives the end of the run beside the whole (chapter 57.10: the long horizon).
+  CHECK_THAT(r.output, Catch::Matchers::Contains("last 10 %"));
+  CHECK_THAT(r.output, !Catch::Matchers::Contains("nan"));
 }
 
 TEST_CASE("cli: sim --foot-columns says the feet replace the joints, and they do", "[cli]") {
