@@ -15,6 +15,7 @@
 #include "estimation/foot_slots.hpp"
 #include "estimation/health_guard.hpp"
 #include "estimation/log_frontend.hpp"
+#include "hexapod_inputs.hpp"
 #include "sim/simulator.hpp"
 
 namespace legkit {
@@ -276,29 +277,13 @@ TEST_CASE("contract: a hexapod standing, then walking on tripods, runs on every 
   // truth. Filters with four foot states give the stance feet slots (estimation/foot_slots.hpp):
   // with six feet down two wait, and at each tripod switch the new feet take the slots that
   // freed one sample later.
-  std::array<ContactMeasurement, 6> feet;
-  for (int i = 0; i < 6; ++i) {
-    const double angle = i * M_PI / 3.0;
-    feet[i].foot = i;
-    feet[i].p_body = Eigen::Vector3d(0.4 * std::cos(angle), 0.4 * std::sin(angle), -0.3);
-    feet[i].cov = 1e-6 * Eigen::Matrix3d::Identity();
-    feet[i].v_body = Eigen::Vector3d::Zero();
-  }
-  const EstimateSample x0{0.0, Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero(),
-                          Eigen::Vector3d(0, 0, 0.3)};
+  const test::Recording hexapod = test::hexapodTripods(1000, 3001);
+  const EstimateSample& x0 = hexapod.x0;
   for (const std::string& name : estimatorNames()) {
     INFO(name);
     const std::unique_ptr<Estimator> e = makeEstimator(name);
     e->reset(x0);
-    for (int k = 0; k <= 3000; ++k) {
-      StepInput in;
-      in.t = 1e-3 * k;
-      in.dt = k == 0 ? 0.0 : 1e-3;
-      in.imu.a_m = Eigen::Vector3d(0, 0, 9.81);
-      const int phase = k < 1000 ? -1 : (k / 250) % 2;  // all six, then tripods 0 2 4 / 1 3 5
-      for (int i = 0; i < 6; ++i) {
-        if (phase < 0 || i % 2 == phase) in.contacts[in.num_contacts++] = feet[i];
-      }
+    for (const StepInput& in : hexapod.steps) {
       REQUIRE_NOTHROW(e->step(in));
       REQUIRE(finite(e->estimate()));
     }

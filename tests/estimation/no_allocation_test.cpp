@@ -14,6 +14,7 @@
 #include "estimation/estimators.hpp"
 #include "estimation/invariant/invariant_ekf.hpp"
 #include "estimation/log_frontend.hpp"
+#include "hexapod_inputs.hpp"
 #include "sim/simulator.hpp"
 
 namespace {
@@ -58,18 +59,13 @@ void operator delete[](void* p, std::size_t) noexcept {
 namespace legkit {
 namespace {
 
-struct Inputs {
-  std::vector<StepInput> steps;
-  EstimateSample x0;
-};
-
 // `duration` seconds of a simulated scenario as estimator inputs (built before counting starts).
-Inputs scenario(const std::string& name, double duration) {
+test::Recording scenario(const std::string& name, double duration) {
   sim::SimOptions options;
   options.scenario = sim::scenarioByName(name);
   options.duration = duration;
   const io::Log log = sim::simulate(options).log;
-  Inputs r;
+  test::Recording r;
   r.steps = LogFrontend(log.layout, model::QuadrupedKinematics()).inputs(log);
   const io::LogRow& first = log.rows.front();
   r.x0 = {first.t, first.gt_q, first.gt_v, first.gt_p};
@@ -90,7 +86,7 @@ int contactChanges(const std::vector<StepInput>& steps) {
 }
 
 // Heap allocations made by reset() and every step() of `steps`, on a filter built beforehand.
-long allocationsOfRun(Estimator& e, const Inputs& inputs) {
+long allocationsOfRun(Estimator& e, const test::Recording& inputs) {
   const long before = g_allocations.load();
   e.reset(inputs.x0);
   for (const StepInput& in : inputs.steps) e.step(in);
@@ -102,7 +98,7 @@ long allocationsOfRun(Estimator& e, const Inputs& inputs) {
 TEST_CASE("no allocation: every estimator, through the touchdowns and lift-offs of every gait",
           "[estimator]") {
   for (const std::string& gait : {"walk", "trot", "bound", "turn"}) {
-    const Inputs inputs = scenario(gait, 2.0);
+    const test::Recording inputs = scenario(gait, 2.0);
     REQUIRE(contactChanges(inputs.steps) >= 8);  // the gait really steps in 2 s
     for (const std::string& name : estimatorNames()) {
       INFO(name << " on " << gait);
@@ -115,7 +111,7 @@ TEST_CASE("no allocation: every estimator, through the touchdowns and lift-offs 
 }
 
 TEST_CASE("no allocation: rejected samples and feet given slots", "[estimator]") {
-  Inputs inputs = scenario("trot", 1.0);
+  test::Recording inputs = scenario("trot", 1.0);
   const std::size_t n = inputs.steps.size();
   inputs.steps[n / 3].imu.w_m.x() = 100.0;  // beyond the gyro's range: not admitted
   StepInput& far = inputs.steps[n / 2];
@@ -123,26 +119,7 @@ TEST_CASE("no allocation: rejected samples and feet given slots", "[estimator]")
   far.contacts[0].p_body.z() = -50.0;  // a foot beyond reach: dropped (a copy of the input)
   // Six feet on a hexapod, standing then on alternating tripods: the four-foot filters give the
   // stance feet slots (a second copy of the input whenever a foot is moved to another slot).
-  Inputs hexapod;
-  hexapod.x0 = {0.0, Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero(),
-                Eigen::Vector3d(0, 0, 0.3)};
-  for (int k = 0; k <= 2000; ++k) {
-    StepInput in;
-    in.t = 1e-3 * k;
-    in.dt = k == 0 ? 0.0 : 1e-3;
-    in.imu.a_m = Eigen::Vector3d(0, 0, 9.81);
-    const int phase = k < 500 ? -1 : (k / 250) % 2;  // all six, then tripods 0 2 4 / 1 3 5
-    for (int i = 0; i < 6; ++i) {
-      if (phase >= 0 && i % 2 != phase) continue;
-      const double angle = i * M_PI / 3.0;
-      ContactMeasurement& c = in.contacts[in.num_contacts++];
-      c.foot = i;
-      c.p_body = Eigen::Vector3d(0.4 * std::cos(angle), 0.4 * std::sin(angle), -0.3);
-      c.cov = 1e-6 * Eigen::Matrix3d::Identity();
-      c.v_body = Eigen::Vector3d::Zero();
-    }
-    hexapod.steps.push_back(in);
-  }
+  const test::Recording hexapod = test::hexapodTripods(500, 2001);
   for (const std::string& name : estimatorNames()) {
     INFO(name);
     const std::unique_ptr<Estimator> e = makeEstimator(name);
@@ -156,7 +133,7 @@ TEST_CASE("no allocation: rejected samples and feet given slots", "[estimator]")
 
 TEST_CASE("no allocation: the InEKF's other discretisation and the reference's touchdown",
           "[estimator]") {
-  const Inputs inputs = scenario("trot", 1.0);
+  const test::Recording inputs = scenario("trot", 1.0);
   invariant::InvariantEkfParams first_order;
   first_order.discretisation = invariant::inekf::Discretisation::kFirstOrder;
   invariant::InvariantEkfParams reference = first_order;
