@@ -2,7 +2,6 @@
 
 #include <fcntl.h>
 #include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,7 +12,7 @@
 #include <sstream>
 #include <system_error>
 
-extern char** environ;
+#include "spawn.hpp"
 
 namespace legkit::tools {
 
@@ -105,11 +104,8 @@ ProgramResult runProgram(const std::vector<std::string>& argv) {
   posix_spawn_file_actions_adddup2(&actions, pipe_ends[1], STDERR_FILENO);
   posix_spawn_file_actions_addclose(&actions, pipe_ends[0]);
   posix_spawn_file_actions_addclose(&actions, pipe_ends[1]);
-  std::vector<char*> args;
-  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
   pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, args[0], &actions, nullptr, args.data(), environ);
+  const int spawned = spawnProgram(argv, actions, pid);
   posix_spawn_file_actions_destroy(&actions);
   close(pipe_ends[1]);
   if (spawned != 0) {
@@ -124,11 +120,8 @@ ProgramResult runProgram(const std::vector<std::string>& argv) {
     if (result.errors.size() > 4000) result.errors.erase(0, result.errors.size() - 2000);
   }
   close(pipe_ends[0]);
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
   if (result.errors.size() > 2000) result.errors.erase(0, result.errors.size() - 2000);
-  result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.status = waitForExit(pid);
   return result;
 }
 
