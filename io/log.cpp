@@ -7,6 +7,11 @@ bool exactlyEqual(const LogRow& a, const LogRow& b) {
   for (int k = 0; k < kMaxFeet; ++k) {
     feet_equal =
         feet_equal && a.feet[k].p_body == b.feet[k].p_body && a.feet[k].cov == b.feet[k].cov;
+    const FootTruth& x = a.gt_feet[k];
+    const FootTruth& y = b.gt_feet[k];
+    feet_equal = feet_equal && x.contact == y.contact && x.normal_force == y.normal_force &&
+                 x.tangential_force == y.tangential_force && x.velocity == y.velocity &&
+                 x.slip_speed == y.slip_speed;
   }
   return a.t == b.t && a.gyro == b.gyro && a.acc == b.acc && a.q == b.q && a.dq == b.dq &&
          a.tau == b.tau && a.force == b.force && a.contact == b.contact && feet_equal &&

@@ -46,11 +46,14 @@ struct LogLayout {
   bool ground_truth = false;  // gt_px..pz [m], gt_qw..qz (body to world), gt_vx..vz [m/s, world]
   int num_feet = kNumLegs;    // number of feet (4 with joints; 1..kMaxFeet with foot columns)
   FootCovariance foot_columns = FootCovariance::kNone;  // body-frame foot position columns
+  // True contact per foot (simulation only): gt_contact_, gt_fn_, gt_ft_, gt_vf_<foot>_x.._z,
+  // gt_slip_. No estimator reads them; they are there to score contact detection and slip.
+  bool contact_truth = false;
 
   bool operator==(const LogLayout& o) const {
     return joints == o.joints && torque == o.torque && force == o.force && contact == o.contact &&
            ground_truth == o.ground_truth && num_feet == o.num_feet &&
-           foot_columns == o.foot_columns;
+           foot_columns == o.foot_columns && contact_truth == o.contact_truth;
   }
   bool operator!=(const LogLayout& o) const { return !(*this == o); }
 };
@@ -59,6 +62,15 @@ struct LogLayout {
 struct FootKinematics {
   Eigen::Vector3d p_body = Eigen::Vector3d::Zero();  // foot position in the body frame [m]
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();     // its covariance [m^2] (diagonal if kDiagonal)
+};
+
+// The true state of one foot's contact, as the physics simulator knows it (contact_truth group).
+struct FootTruth {
+  bool contact = false;           // the foot touches the ground
+  double normal_force = 0.0;      // ground reaction along the normal [N], >= 0
+  double tangential_force = 0.0;  // its magnitude in the tangent plane [N], >= 0
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // world velocity of the foot point [m/s]
+  double slip_speed = 0.0;  // sliding speed of the contact point [m/s], >= 0 (0 off the ground)
 };
 
 // One IMU sample and everything measured at the same instant. Fixed size: no heap per row.
@@ -77,6 +89,7 @@ struct LogRow {
   Eigen::Vector3d gt_p = Eigen::Vector3d::Zero();            // position in world [m]
   Eigen::Quaterniond gt_q = Eigen::Quaterniond::Identity();  // R: body to world
   Eigen::Vector3d gt_v = Eigen::Vector3d::Zero();            // velocity in world [m/s]
+  std::array<FootTruth, kMaxFeet> gt_feet{};  // true contact per foot (contact_truth group)
 };
 
 // Exact equality (==, no tolerance) of every field: what a write + read round trip guarantees.

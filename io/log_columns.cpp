@@ -54,6 +54,22 @@ void appendGroundTruth(std::vector<Column>& out) {
   appendVector(out, "gt_v", Field::kGtV);
 }
 
+// The contact_truth group of `feet` feet, kind by kind (as force_ and contact_).
+void appendContactTruth(std::vector<Column>& out, int feet, bool leg_names) {
+  for (int k = 0; k < feet; ++k)
+    out.push_back({perFootName("gt_contact", k, leg_names), Field::kGtContact, k, 0});
+  for (int k = 0; k < feet; ++k)
+    out.push_back({perFootName("gt_fn", k, leg_names), Field::kGtFn, k, 0});
+  for (int k = 0; k < feet; ++k)
+    out.push_back({perFootName("gt_ft", k, leg_names), Field::kGtFt, k, 0});
+  for (int k = 0; k < feet; ++k) {
+    const std::string vf = perFootName("gt_vf", k, leg_names) + "_";
+    for (int i = 0; i < 3; ++i) out.push_back({vf + kAxes[i], Field::kGtVf, k, i});
+  }
+  for (int k = 0; k < feet; ++k)
+    out.push_back({perFootName("gt_slip", k, leg_names), Field::kGtSlip, k, 0});
+}
+
 // Every name the format knows, including both spellings of the per-foot columns.
 std::unordered_map<std::string, Column> buildNameTable() {
   std::vector<Column> all;
@@ -73,6 +89,8 @@ std::unordered_map<std::string, Column> buildNameTable() {
     appendFootKinematics(all, k, FootCovariance::kFull);
   }
   appendGroundTruth(all);
+  appendContactTruth(all, kMaxFeet, false);
+  appendContactTruth(all, kNumLegs, true);
   std::unordered_map<std::string, Column> table;
   for (Column& c : all) {
     const std::string name = c.name;
@@ -120,6 +138,7 @@ std::vector<Column> columnsOf(const LogLayout& layout) {
     for (int k = 0; k < layout.num_feet; ++k) appendFootKinematics(out, k, layout.foot_columns);
   }
   if (layout.ground_truth) appendGroundTruth(out);
+  if (layout.contact_truth) appendContactTruth(out, layout.num_feet, layout.joints);
   return out;
 }
 
@@ -160,6 +179,16 @@ double valueOf(const LogRow& row, const Column& c) {
       return c.index == 0 ? row.gt_q.w() : row.gt_q.vec()(c.index - 1);
     case Field::kGtV:
       return row.gt_v(c.index);
+    case Field::kGtContact:
+      return row.gt_feet[c.foot].contact ? 1.0 : 0.0;
+    case Field::kGtFn:
+      return row.gt_feet[c.foot].normal_force;
+    case Field::kGtFt:
+      return row.gt_feet[c.foot].tangential_force;
+    case Field::kGtVf:
+      return row.gt_feet[c.foot].velocity(c.index);
+    case Field::kGtSlip:
+      return row.gt_feet[c.foot].slip_speed;
   }
   throw std::logic_error("valueOf: unknown field");
 }
@@ -214,6 +243,21 @@ void setValue(LogRow& row, const Column& c, double value) {
       return;
     case Field::kGtV:
       row.gt_v(c.index) = value;
+      return;
+    case Field::kGtContact:
+      row.gt_feet[c.foot].contact = value != 0.0;
+      return;
+    case Field::kGtFn:
+      row.gt_feet[c.foot].normal_force = value;
+      return;
+    case Field::kGtFt:
+      row.gt_feet[c.foot].tangential_force = value;
+      return;
+    case Field::kGtVf:
+      row.gt_feet[c.foot].velocity(c.index) = value;
+      return;
+    case Field::kGtSlip:
+      row.gt_feet[c.foot].slip_speed = value;
       return;
   }
   throw std::logic_error("setValue: unknown field");

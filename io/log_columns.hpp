@@ -15,6 +15,11 @@
 //   gt_px gt_py gt_pz                  true base position, world [m]              (optional)
 //   gt_qw gt_qx gt_qy gt_qz            true attitude, unit quaternion body to world
 //   gt_vx gt_vy gt_vz                  true base velocity, world [m/s]
+//   gt_contact_<leg> | foot<k>_gt_contact   true contact, 0 or 1            (optional group,
+//   gt_fn_<leg>      | foot<k>_gt_fn        true normal force [N], >= 0      simulation only;
+//   gt_ft_<leg>      | foot<k>_gt_ft        true tangential force [N], >= 0  no estimator
+//   gt_vf_<leg>_x.._z | foot<k>_gt_vf_x..   true foot velocity, world [m/s]  reads it)
+//   gt_slip_<leg>    | foot<k>_gt_slip      sliding speed of the contact [m/s], >= 0
 //
 // Per-foot columns of a log with joint columns use the leg names (force_FL); a log described
 // only by foot columns uses the foot number (foot0_force). The reader accepts either spelling.
@@ -32,19 +37,24 @@ namespace legkit::io {
 // The field of LogRow a column fills.
 enum class Field {
   kTime,
-  kGyro,     // index: axis 0..2
-  kAcc,      // index: axis 0..2
-  kQ,        // index: joint 0..11 (3 * leg + joint)
-  kDq,       // index: joint 0..11
-  kTau,      // index: joint 0..11
-  kForce,    // foot
-  kContact,  // foot
-  kFootP,    // foot, index: axis 0..2
-  kFootVar,  // foot, index: axis 0..2
-  kFootCov,  // foot, index: 0..5 = xx, xy, xz, yy, yz, zz
-  kGtP,      // index: axis 0..2
-  kGtQ,      // index: 0..3 = w, x, y, z
-  kGtV,      // index: axis 0..2
+  kGyro,       // index: axis 0..2
+  kAcc,        // index: axis 0..2
+  kQ,          // index: joint 0..11 (3 * leg + joint)
+  kDq,         // index: joint 0..11
+  kTau,        // index: joint 0..11
+  kForce,      // foot
+  kContact,    // foot
+  kFootP,      // foot, index: axis 0..2
+  kFootVar,    // foot, index: axis 0..2
+  kFootCov,    // foot, index: 0..5 = xx, xy, xz, yy, yz, zz
+  kGtP,        // index: axis 0..2
+  kGtQ,        // index: 0..3 = w, x, y, z
+  kGtV,        // index: axis 0..2
+  kGtContact,  // foot
+  kGtFn,       // foot
+  kGtFt,       // foot
+  kGtVf,       // foot, index: axis 0..2
+  kGtSlip,     // foot
 };
 
 struct Column {

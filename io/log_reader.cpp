@@ -248,6 +248,13 @@ class Reader {
       case Field::kGtQ:
       case Field::kGtV:
         return "missing: the ground-truth group needs all of gt_px..gt_vz";
+      case Field::kGtContact:
+      case Field::kGtFn:
+      case Field::kGtFt:
+      case Field::kGtVf:
+      case Field::kGtSlip:
+        return "missing: the contact-truth group needs gt_contact, gt_fn, gt_ft, gt_vf (x, y, z) "
+               "and gt_slip for every foot";
     }
     return "missing";
   }
@@ -259,6 +266,8 @@ class Reader {
     layout.force = has(Field::kForce);
     layout.contact = has(Field::kContact);
     layout.ground_truth = has(Field::kGtP) || has(Field::kGtQ) || has(Field::kGtV);
+    layout.contact_truth = has(Field::kGtContact) || has(Field::kGtFn) || has(Field::kGtFt) ||
+                           has(Field::kGtVf) || has(Field::kGtSlip);
     const bool var = has(Field::kFootVar);
     const bool cov = has(Field::kFootCov);
     if (var && cov) {
@@ -270,7 +279,9 @@ class Reader {
     int feet = 0;  // one past the highest foot id any per-foot column mentions
     for (const Column& c : columns_) {
       if (c.field == Field::kForce || c.field == Field::kContact || c.field == Field::kFootP ||
-          c.field == Field::kFootVar || c.field == Field::kFootCov) {
+          c.field == Field::kFootVar || c.field == Field::kFootCov ||
+          c.field == Field::kGtContact || c.field == Field::kGtFn || c.field == Field::kGtFt ||
+          c.field == Field::kGtVf || c.field == Field::kGtSlip) {
         feet = std::max(feet, c.foot + 1);
       }
     }
@@ -357,8 +368,16 @@ class Reader {
   }
 
   void checkValue(int line, const Column& column, double value, std::string_view text) const {
-    if (column.field == Field::kContact && value != 0.0 && value != 1.0) {
+    if ((column.field == Field::kContact || column.field == Field::kGtContact) && value != 0.0 &&
+        value != 1.0) {
       fail(line, column.name, "expected a contact flag 0 or 1, got " + shown(text));
+    }
+    const bool magnitude = column.field == Field::kGtFn || column.field == Field::kGtFt ||
+                           column.field == Field::kGtSlip;
+    if (magnitude && !(value >= 0.0)) {
+      fail(line, column.name,
+           "expected a magnitude >= 0, got " + shown(text) +
+               " (a true normal force, tangential force or slip speed is never negative)");
     }
     const bool variance = column.field == Field::kFootVar ||
                           (column.field == Field::kFootCov &&

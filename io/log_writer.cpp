@@ -57,6 +57,12 @@ void writeLog(std::ostream& out, const Log& log, const std::string& destination)
         throw LogError(destination, line, columns[i].name,
                        "cannot write a NaN or inf (row " + std::to_string(r) + ")");
       }
+      const Field field = columns[i].field;
+      if ((field == Field::kGtFn || field == Field::kGtFt || field == Field::kGtSlip) &&
+          value < 0.0) {
+        throw LogError(destination, line, columns[i].name,
+                       "cannot write a negative magnitude (row " + std::to_string(r) + ")");
+      }
       if (i > 0) text += ',';
       appendNumber(text, value);
     }

@@ -11,7 +11,8 @@ namespace legkit::io {
 
 // Writes the header (the layout's columns, io/log_columns.hpp) and one line per row. Throws
 // LogError for what the reader would reject: an invalid layout, a non-finite value, timestamps
-// not strictly increasing, a comment with a line break; and when the file cannot be written.
+// not strictly increasing, a negative true force or slip speed (contact_truth group), a comment
+// with a line break; and when the file cannot be written.
 void writeLog(const std::string& path, const Log& log);
 
 // The same to a stream; destination names it in error messages.

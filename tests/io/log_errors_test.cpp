@@ -264,6 +264,61 @@ TEST_CASE("A covariance check that overflow cannot fool", "[57.3][log]") {
       "scales.csv", header + "\n0,0,0,0,0,0,9.81,0,0,0,1e-300,1e-160,0,1e-10,0,1e300\n")));
 }
 
+TEST_CASE("The contact-truth group: all or nothing, flags, magnitudes", "[57.0][log]") {
+  const TempDir dir;
+  io::Log log;
+  log.layout.contact_truth = true;
+  for (int i = 0; i < 3; ++i) {
+    io::LogRow row;
+    row.t = 0.001 * i;
+    row.gt_feet[1] = {true, 60.0, 4.0, Eigen::Vector3d(0.01, 0.0, 0.0), 0.01};
+    log.rows.push_back(row);
+  }
+  std::ostringstream out;
+  io::writeLog(out, log);
+  const std::string good = out.str();
+  // Columns: 0 t, 1-6 IMU, 7-30 joints, 31-34 gt_contact, 35-38 gt_fn, 39-42 gt_ft,
+  // 43-54 gt_vf, 55-58 gt_slip.
+  const io::Log back = io::readLog(dir.write("truth.csv", good));
+  CHECK(back.layout.contact_truth);
+  CHECK(back.rows.at(2).gt_feet[1].normal_force == 60.0);
+  checkError(dir, "truth_flag.csv", withField(good, 3, 32, "0.5"),
+             {3, "gt_contact_FR", "expected a contact flag 0 or 1, got '0.5'"});
+  checkError(dir, "truth_fn.csv", withField(good, 2, 36, "-1"),
+             {2, "gt_fn_FR", "expected a magnitude >= 0, got '-1'"});
+  checkError(dir, "truth_ft.csv", withField(good, 4, 42, "-1e-300"),
+             {4, "gt_ft_RR", "expected a magnitude >= 0"});
+  checkError(dir, "truth_slip.csv", withField(good, 3, 58, "-0.2"),
+             {3, "gt_slip_RR", "expected a magnitude >= 0"});
+  checkError(dir, "truth_nan.csv", withField(good, 2, 44, "nan"),
+             {2, "gt_vf_FL_y", "expected a finite number, got 'nan'"});
+  {  // the last column (gt_slip_RR) and its data cut: half a group
+    std::string text;
+    for (const std::string& l : lines(good)) text += l.substr(0, l.rfind(',')) + "\n";
+    checkError(dir, "truth_partial.csv", text,
+               {1, "gt_slip_RR", "the contact-truth group needs gt_contact, gt_fn, gt_ft"});
+  }
+  {  // a single column of the group is half a group too
+    io::Log plain;
+    plain.rows.resize(1);
+    std::ostringstream o;
+    io::writeLog(o, plain);
+    std::vector<std::string> ls = lines(o.str());
+    ls[0] += ",gt_fn_FL";
+    ls[1] += ",3";
+    checkError(dir, "truth_one.csv", join(ls), {1, "gt_contact_FL", "the contact-truth group"});
+  }
+  // A foot past the fourth in a joint log.
+  checkError(dir, "truth_foot4.csv", withField(good, 1, 31, "foot4_gt_contact"),
+             {1, "", "a log with joint columns has 4 feet, but a column names foot 4"});
+  // The writer refuses what the reader would.
+  log.rows[2].gt_feet[3].slip_speed = -0.5;
+  std::ostringstream refused;
+  CHECK_THROWS_WITH(
+      io::writeLog(refused, log, "mem"),
+      Catch::Matchers::Contains("mem:4: column 'gt_slip_RR': cannot write a negative"));
+}
+
 TEST_CASE("One leg description per log: joints or feet, not both", "[57.3][log]") {
   io::Log log;
   log.layout.joints = true;

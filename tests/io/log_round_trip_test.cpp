@@ -44,6 +44,7 @@ io::LogLayout genLayout() {
   layout.force = *rc::gen::arbitrary<bool>();
   layout.contact = *rc::gen::arbitrary<bool>();
   layout.ground_truth = *rc::gen::arbitrary<bool>();
+  layout.contact_truth = *rc::gen::arbitrary<bool>();
   return layout;
 }
 
@@ -55,7 +56,16 @@ io::LogRow genRow(const std::vector<io::Column>& columns, double t) {
         setValue(row, c, t);
         break;
       case io::Field::kContact:
+      case io::Field::kGtContact:
         setValue(row, c, *rc::gen::inRange(0, 2));
+        break;
+      case io::Field::kGtFn:
+      case io::Field::kGtFt:
+      case io::Field::kGtSlip:  // magnitudes >= 0; -0.0 is >= 0 too and keeps its sign
+        setValue(
+            row, c,
+            *rc::gen::oneOf(rc::gen::map(anyFiniteDouble(), [](double x) { return std::abs(x); }),
+                            rc::gen::just(-0.0)));
         break;
       case io::Field::kFootVar:
         setValue(row, c, std::abs(*positiveDouble()));
@@ -178,6 +188,53 @@ TEST_CASE("The quadruped header names every column of the chapter's format", "[5
   CHECK(names[51] == "gt_px");
   CHECK(names[54] == "gt_qw");
   CHECK(names[60] == "gt_vz");
+}
+
+TEST_CASE("The contact-truth columns: names, order and both spellings", "[57.0][log]") {
+  io::LogLayout layout;
+  layout.contact_truth = true;
+  std::vector<std::string> names;
+  for (const io::Column& c : io::columnsOf(layout)) names.push_back(c.name);
+  REQUIRE(names.size() == 1 + 3 + 3 + 12 * 2 + 7 * 4);
+  CHECK(names[31] == "gt_contact_FL");
+  CHECK(names[35] == "gt_fn_FL");
+  CHECK(names[39] == "gt_ft_FL");
+  CHECK(names[43] == "gt_vf_FL_x");
+  CHECK(names[54] == "gt_vf_RR_z");
+  CHECK(names[55] == "gt_slip_FL");
+  CHECK(names[58] == "gt_slip_RR");
+
+  // A foot-column log spells them foot<k>_gt_..; the values land in LogRow::gt_feet.
+  const std::string text =
+      "t,gyro_x,gyro_y,gyro_z,acc_x,acc_y,acc_z,foot0_px,foot0_py,foot0_pz,foot0_var_x,"
+      "foot0_var_y,foot0_var_z,foot0_gt_contact,foot0_gt_fn,foot0_gt_ft,foot0_gt_vf_x,"
+      "foot0_gt_vf_y,foot0_gt_vf_z,foot0_gt_slip\n"
+      "0,0,0,0,0,0,9.81,0.2,0.1,-0.3,1e-4,1e-4,1e-4,1,80.5,12.25,0.5,-0.25,0.125,0.5\n";
+  std::istringstream in(text);
+  const io::Log log = io::readLog(in, "truth.csv");
+  CHECK(log.layout.contact_truth);
+  CHECK(log.layout.num_feet == 1);
+  const io::FootTruth& foot = log.rows.at(0).gt_feet[0];
+  CHECK(foot.contact);
+  CHECK(foot.normal_force == 80.5);
+  CHECK(foot.tangential_force == 12.25);
+  CHECK(foot.velocity == Eigen::Vector3d(0.5, -0.25, 0.125));
+  CHECK(foot.slip_speed == 0.5);
+  std::stringstream again;
+  io::writeLog(again, log);
+  CHECK(again.str().find(",foot0_gt_contact,foot0_gt_fn,foot0_gt_ft,foot0_gt_vf_x,") !=
+        std::string::npos);
+  CHECK(io::exactlyEqual(io::readLog(again, "again").rows.at(0), log.rows[0]));
+  // exactlyEqual sees every field of the group.
+  io::LogRow other = log.rows[0];
+  other.gt_feet[0].velocity.z() = 0.0;
+  CHECK_FALSE(io::exactlyEqual(other, log.rows[0]));
+  other = log.rows[0];
+  other.gt_feet[0].contact = false;
+  CHECK_FALSE(io::exactlyEqual(other, log.rows[0]));
+  io::LogLayout without = log.layout;
+  without.contact_truth = false;
+  CHECK(without != log.layout);
 }
 
 TEST_CASE("Whatever the reader accepts, it reads back the same once written", "[57.3][log]") {
