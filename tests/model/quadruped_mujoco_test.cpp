@@ -1,101 +1,24 @@
-// FK of QuadrupedKinematics against MuJoCo's own kinematics on a model of the same robot built
-// from primitives (floating base, three hinges per leg, a site at the foot-sphere centre).
+// The kit's quadruped in MuJoCo: the MJCF generated from model/'s data (quadrupedMjcf) against
+// QuadrupedKinematics and QuadrupedInertia.
 #include <mujoco/mujoco.h>
 
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
-#include <cstring>
-#include <memory>
 #include <random>
-#include <sstream>
-#include <string>
 
+#include "model/mjcf.hpp"
+#include "model/mujoco.hpp"
 #include "model/quadruped.hpp"
+#include "model/quadruped_inertia.hpp"
 
-using legkit::model::kNumLegs;
-using legkit::model::QuadrupedGeometry;
-using legkit::model::QuadrupedKinematics;
-
-namespace {
-
-std::string vec(double x, double y, double z) {
-  std::ostringstream s;
-  s.precision(17);
-  s << x << " " << y << " " << z;
-  return s.str();
-}
-
-// MJCF of the robot: hinge axes are abduction about x, hip and knee about y, as in quadruped.hpp.
-std::string mjcf(const QuadrupedGeometry& g) {
-  std::ostringstream s;
-  s << "<mujoco model='legkit_quadruped'>\n"
-       "  <compiler angle='radian'/>\n"
-       "  <worldbody>\n"
-       "    <body name='base'>\n"
-       "      <freejoint/>\n"
-       "      <geom type='box' size='0.19 0.05 0.05' mass='6'/>\n";
-  for (int leg = 0; leg < kNumLegs; ++leg) {
-    const std::string n = legkit::model::legName(leg);
-    const Eigen::Vector3d& h = g.hip_offset[leg];
-    const double y0 = legkit::model::lateralSign(leg) * g.abduction_offset;
-    s << "      <body name='" << n << "_hip' pos='" << vec(h.x(), h.y(), h.z()) << "'>\n"
-      << "        <joint name='" << n << "_abduction' type='hinge' axis='1 0 0'/>\n"
-      << "        <geom type='sphere' size='0.03' mass='0.5'/>\n"
-      << "        <body name='" << n << "_thigh' pos='" << vec(0, y0, 0) << "'>\n"
-      << "          <joint name='" << n << "_hip' type='hinge' axis='0 1 0'/>\n"
-      << "          <geom type='capsule' fromto='0 0 0 0 0 " << -g.thigh_length
-      << "' size='0.02' mass='1'/>\n"
-      << "          <body name='" << n << "_calf' pos='" << vec(0, 0, -g.thigh_length) << "'>\n"
-      << "            <joint name='" << n << "_knee' type='hinge' axis='0 1 0'/>\n"
-      << "            <geom type='capsule' fromto='0 0 0 0 0 " << -g.calf_length
-      << "' size='0.015' mass='0.2'/>\n"
-      << "            <site name='" << n << "_foot' pos='" << vec(0, 0, -g.calf_length)
-      << "' size='" << g.foot_radius << "'/>\n"
-      << "          </body>\n"
-      << "        </body>\n"
-      << "      </body>\n";
-  }
-  s << "    </body>\n  </worldbody>\n</mujoco>\n";
-  return s.str();
-}
-
-struct ModelDeleter {
-  void operator()(mjModel* m) const { mj_deleteModel(m); }
-};
-struct DataDeleter {
-  void operator()(mjData* d) const { mj_deleteData(d); }
-};
-struct VfsDeleter {
-  void operator()(mjVFS* v) const {
-    mj_deleteVFS(v);
-    delete v;
-  }
-};
-
-std::unique_ptr<mjModel, ModelDeleter> loadFromString(const std::string& xml) {
-  std::unique_ptr<mjVFS, VfsDeleter> vfs(new mjVFS);
-  mj_defaultVFS(vfs.get());
-  const char* name = "legkit_quadruped.xml";
-  REQUIRE(mj_makeEmptyFileVFS(vfs.get(), name, static_cast<int>(xml.size())) == 0);
-  const int i = mj_findFileVFS(vfs.get(), name);
-  REQUIRE(i >= 0);
-  std::memcpy(vfs->filedata[i], xml.data(), xml.size());
-  char error[1000] = "";
-  std::unique_ptr<mjModel, ModelDeleter> m(mj_loadXML(name, vfs.get(), error, sizeof(error)));
-  INFO("MuJoCo: " << error);
-  REQUIRE(m != nullptr);
-  return m;
-}
-
-}  // namespace
+using namespace legkit::model;
 
 TEST_CASE("FK agrees with MuJoCo's kinematics to 1e-9 m", "[57.3][model][mujoco]") {
   const QuadrupedKinematics kin;
   const QuadrupedGeometry& g = kin.geometry();
-  const auto m = loadFromString(mjcf(g));
+  const MjModelPtr m = loadMjcf(quadrupedMjcf(g, QuadrupedInertia::go2()));
   REQUIRE(m->nq == 7 + 3 * kNumLegs);
-  REQUIRE(m->nsite == kNumLegs);
-  std::unique_ptr<mjData, DataDeleter> d(mj_makeData(m.get()));
+  const MjDataPtr d = makeData(*m);
 
   std::mt19937 gen(573);
   std::uniform_real_distribution<double> unit(0.0, 1.0), pos(-2.0, 2.0);
@@ -120,14 +43,23 @@ TEST_CASE("FK agrees with MuJoCo's kinematics to 1e-9 m", "[57.3][model][mujoco]
     mj_kinematics(m.get(), d.get());
     const Eigen::Matrix3d R = quat.toRotationMatrix();
     for (int leg = 0; leg < kNumLegs; ++leg) {
-      const Eigen::Vector3d site(d->site_xpos[3 * leg], d->site_xpos[3 * leg + 1],
-                                 d->site_xpos[3 * leg + 2]);
+      const int site =
+          mj_name2id(m.get(), mjOBJ_SITE, (std::string(legName(leg)) + "_foot").c_str());
+      REQUIRE(site >= 0);
+      const Eigen::Vector3d x(d->site_xpos[3 * site], d->site_xpos[3 * site + 1],
+                              d->site_xpos[3 * site + 2]);
       const Eigen::Vector3d ours = p + R * kin.footPosition(leg, q[leg]);
-      worst = std::max(worst, (site - ours).norm());
-      CHECK((site - ours).norm() < 1e-9);
+      worst = std::max(worst, (x - ours).norm());
+      CHECK((x - ours).norm() < 1e-9);
     }
   }
-  // Shown with -s: the measured agreement the chapter quotes.
   INFO("worst |MuJoCo - FK| over 20 random poses x 4 feet: " << worst << " m");
   CHECK(worst < 1e-9);
+}
+
+TEST_CASE("Go2 inertia: total mass and MuJoCo's total", "[57.3][model][mujoco]") {
+  const QuadrupedInertia in = QuadrupedInertia::go2();
+  CHECK(in.totalMass() == Approx(15.206408).margin(1e-12));
+  const MjModelPtr m = loadMjcf(quadrupedMjcf(QuadrupedGeometry::go2(), in));
+  CHECK(std::abs(mj_getTotalmass(m.get()) - in.totalMass()) < 1e-12);
 }
