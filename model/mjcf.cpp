@@ -1,5 +1,7 @@
 #include "model/mjcf.hpp"
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <cmath>
 #include <locale>
 #include <sstream>
@@ -79,9 +81,13 @@ void checkLink(const LinkInertia& link, const std::string& name) {
   requirePositive(link.mass, name + ".mass");
   requireFinite(link.com, name + ".com");
   if (!link.inertia.allFinite()) bad(name + ".inertia is not finite");
-  // MJCF's fullinertia holds six numbers: the matrix has to be symmetric to be written exactly.
+  // An inertia tensor is symmetric and positive definite (MuJoCo checks the triangle inequality).
   if (!(link.inertia - link.inertia.transpose()).isZero(1e-12 * link.inertia.norm())) {
     bad(name + ".inertia is not symmetric");
+  }
+  if (!(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(link.inertia).eigenvalues().array() > 0.0)
+           .all()) {
+    bad(name + ".inertia is not positive definite");
   }
 }
 
@@ -116,12 +122,18 @@ std::string vec(const Eigen::Vector3d& v) {
   return vec(v.x(), v.y(), v.z());
 }
 
-// <inertial> with MJCF's fullinertia order: ixx iyy izz ixy ixz iyz.
+// <inertial> in principal form: the centre of mass, the principal moments (diaginertia) and the
+// rotation from the principal axes to the link frame (quat, w x y z). Eigen's symmetric eigensolver
+// is exact to rounding; MJCF's fullinertia would instead go through MuJoCo's own iterative
+// diagonalisation, whose axes leave the inertia ~1e-6 (relative) off the one given.
 std::string inertial(const LinkInertia& link) {
-  const Eigen::Matrix3d& I = link.inertia;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(link.inertia);
+  Eigen::Matrix3d axes = eig.eigenvectors();
+  if (axes.determinant() < 0.0) axes.col(2) = -axes.col(2);  // a rotation, not a reflection
+  const Eigen::Quaterniond q(axes);
   std::ostringstream s = exactStream();
-  s << "<inertial pos='" << vec(link.com) << "' mass='" << link.mass << "' fullinertia='" << I(0, 0)
-    << ' ' << I(1, 1) << ' ' << I(2, 2) << ' ' << I(0, 1) << ' ' << I(0, 2) << ' ' << I(1, 2)
+  s << "<inertial pos='" << vec(link.com) << "' mass='" << link.mass << "' quat='" << q.w() << ' '
+    << q.x() << ' ' << q.y() << ' ' << q.z() << "' diaginertia='" << vec(eig.eigenvalues())
     << "'/>";
   return s.str();
 }

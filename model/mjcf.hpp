@@ -43,8 +43,12 @@ struct MjcfOptions {
 // std::invalid_argument naming the first bad field: a non-positive timestep, a negative or
 // non-finite gravity or friction, a non-finite base position, non-finite or non-positive link
 // lengths or foot radius, non-finite hip offsets or joint limits with q_min > q_max, a
-// non-positive or non-finite mass, a non-finite centre of mass or a non-symmetric / non-finite
-// inertia, negative or non-finite torque limits, armature or damping.
+// non-positive or non-finite mass, a non-finite centre of mass, an inertia that is not finite,
+// symmetric and positive definite, negative or non-finite torque limits, armature or damping.
+// Each link's <inertial> is its QuadrupedInertia (never geom-derived) in principal form: moments
+// and axes from Eigen's eigensolver, so that MuJoCo's body_inertia / body_iquat give the given
+// matrix back to rounding (MJCF's fullinertia goes through MuJoCo's iterative diagonalisation,
+// which is off by ~1e-6 relative).
 std::string quadrupedMjcf(const QuadrupedGeometry& geometry, const QuadrupedInertia& inertia,
                           const MjcfOptions& options = {});
 
