@@ -1,6 +1,5 @@
 #include "model/floating_base_dynamics.hpp"
 
-#include <Eigen/Geometry>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -76,8 +75,13 @@ QuadrupedDynamics::QuadrupedDynamics(const QuadrupedGeometry& geometry,
 }
 
 Transform QuadrupedDynamics::placement(int i, double qi) const {
+  const double c = std::cos(qi), s = std::sin(qi);
   Transform X;
-  X.R = Eigen::AngleAxisd(qi, Eigen::Vector3d::Unit(axis_[i])).toRotationMatrix();
+  if (axis_[i] == 0) {
+    X.R << 1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c;  // Rx(qi)
+  } else {
+    X.R << c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c;  // Ry(qi)
+  }
   X.r = joint_origin_[i];
   return X;
 }
