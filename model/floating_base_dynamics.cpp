@@ -86,12 +86,11 @@ Transform QuadrupedDynamics::placement(int i, double qi) const {
   return X;
 }
 
-// CRBA (Featherstone, table 6.2). Since M nudot is the generalized force for an acceleration
-// nudot from rest without gravity (h = 0 then), the column of joint j is the generalized force
-// needed to give joint j a unit acceleration from rest without gravity: the whole subtree below j
-// (its composite inertia Ic_j, all those links welded together) is accelerated by S_j, which takes
-// the spatial force F = Ic_j S_j; F is carried up the tree, and every joint i above j (and j
-// itself) feels S_i^T F. Links not below j do not move, so this is the whole column.
+// CRBA (Featherstone, table 6.2). At rest and without gravity h = 0, so column j of M is the
+// generalized force that gives joint j alone a unit acceleration: the subtree below j moves as one
+// rigid body (its composite inertia Ic_j) accelerated by S_j, which takes F = Ic_j S_j; the links
+// between j and the root do not accelerate and pass F on, so every joint i on the way feels
+// S_i^T F and the base Phi^T F. Links not below j do not move: that is the whole column.
 GeneralizedMatrix QuadrupedDynamics::massMatrix(const FloatingBaseState& x) const {
   std::array<Transform, kNumBodies> X;
   for (int i = 1; i < kNumBodies; ++i) X[i] = placement(i, x.q[i - 1]);
@@ -131,8 +130,9 @@ GeneralizedMatrix QuadrupedDynamics::massMatrix(const FloatingBaseState& x) cons
 }
 
 // RNEA (Featherstone, table 5.1) with nudot = 0. Gravity enters as a fictitious upward
-// acceleration -g of the base (every link then "falls" relative to it: the forces that hold it are
-// the gravity terms). Outward pass: each link's velocity and acceleration from its parent's,
+// acceleration -g of the base: relative to the accelerating base every link falls as under
+// gravity, so the forces found include the links' weights. Outward pass: each link's velocity and
+// acceleration from its parent's,
 //   V_i = X_i V_parent + S_i dq_i,   a_i = X_i a_parent + V_i x S_i dq_i,
 // and the net force it needs, f_i = I_i a_i + V_i x* I_i V_i (Newton-Euler in spatial form).
 // Inward pass: a joint supplies the force of its whole subtree, h_i = S_i^T f_i, and the parent
