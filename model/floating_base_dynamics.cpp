@@ -86,7 +86,7 @@ Transform QuadrupedDynamics::placement(int i, double qi) const {
   return X;
 }
 
-// CRBA (Featherstone, table 6.2). At rest and without gravity h = 0, so column j of M is the
+// CRBA (Featherstone, chapter 6). At rest and without gravity h = 0, so column j of M is the
 // generalized force that gives joint j alone a unit acceleration: the subtree below j moves as one
 // rigid body (its composite inertia Ic_j) accelerated by S_j, which takes F = Ic_j S_j; the links
 // between j and the root do not accelerate and pass F on, so every joint i on the way feels
@@ -96,14 +96,14 @@ GeneralizedMatrix QuadrupedDynamics::massMatrix(const FloatingBaseState& x) cons
   for (int i = 1; i < kNumBodies; ++i) X[i] = placement(i, x.q[i - 1]);
 
   // Composite inertias, leaves first: Ic_parent += X^T Ic_i X (bodies are numbered root first).
-  std::array<Matrix6, kNumBodies> Ic = I_;
+  std::array<spatial::RigidBodyInertia, kNumBodies> Ic = I_;
   for (int i = kNumBodies - 1; i >= 1; --i) Ic[parent_[i]] += spatial::inertiaToParent(X[i], Ic[i]);
 
   GeneralizedMatrix M = GeneralizedMatrix::Zero();
   for (int i = kNumBodies - 1; i >= 1; --i) {
     const int di = 5 + i;
-    // F = Ic_i S_i with S_i = (e_axis, 0): a column of Ic_i.
-    Vector6 F = Ic[i].col(axis_[i]);
+    const Vector6 S_i = Vector6::Unit(axis_[i]);  // (axis, 0)
+    Vector6 F = Ic[i] * S_i;
     M(di, di) = F[axis_[i]] + armature_[i - 1];  // S_i^T Ic_i S_i, plus the rotor's inertia
     int j = i;
     while (parent_[j] != kBase) {
@@ -121,15 +121,16 @@ GeneralizedMatrix QuadrupedDynamics::massMatrix(const FloatingBaseState& x) cons
   // X^T Ic X leaves its triangles a few ulps apart, so it is symmetrized.
   const Eigen::Matrix3d Rt = x.R.transpose();
   for (int k = 0; k < 3; ++k) {
-    M.block<6, 1>(0, k) = baseGeneralizedForce(x.R, Ic[kBase].rightCols<3>() * Rt.col(k));
-    M.block<6, 1>(0, 3 + k) = baseGeneralizedForce(x.R, Ic[kBase].col(k));
+    M.block<6, 1>(0, k) =
+        baseGeneralizedForce(x.R, Ic[kBase] * spatial::stack(Eigen::Vector3d::Zero(), Rt.col(k)));
+    M.block<6, 1>(0, 3 + k) = baseGeneralizedForce(x.R, Ic[kBase] * Vector6::Unit(k));
   }
   const Matrix6 base = M.topLeftCorner<6, 6>();
   M.topLeftCorner<6, 6>() = 0.5 * (base + base.transpose());
   return M;
 }
 
-// RNEA (Featherstone, table 5.1) with nudot = 0. Gravity enters as a fictitious upward
+// RNEA (Featherstone, chapter 5) with nudot = 0. Gravity enters as a fictitious upward
 // acceleration -g of the base: relative to the accelerating base every link falls as under
 // gravity, so the forces found include the links' weights. Outward pass: each link's velocity and
 // acceleration from its parent's,

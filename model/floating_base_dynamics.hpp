@@ -102,7 +102,7 @@ class QuadrupedDynamics {
   std::array<int, kNumBodies> parent_{};                  // parent body (-1 for the base)
   std::array<int, kNumBodies> axis_{};                    // joint axis of body i: 0 = x, 1 = y
   std::array<Eigen::Vector3d, kNumBodies> joint_origin_;  // body i's origin in its parent
-  std::array<spatial::Matrix6, kNumBodies> I_;            // spatial inertia of body i, own frame
+  std::array<spatial::RigidBodyInertia, kNumBodies> I_;   // spatial inertia of body i, own frame
   JointVector12 armature_ = JointVector12::Zero();        // [kg m^2]
   Eigen::Vector3d g_;                                     // gravity, world [m/s^2]
 };

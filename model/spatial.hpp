@@ -2,8 +2,8 @@
 // "Rigid Body Dynamics Algorithms", chapter 2, with his symbols).
 //
 // A spatial vector is ordered (angular, linear), like the kit's SE(3) tangent (phi, rho):
-//   motion: V = (w, v_O)   the angular velocity and the velocity of the point at the frame origin
-//   O; force:  F = (n_O, f)   the moment about O and the force.
+//   motion V = (w, v_O): the angular velocity and the velocity of the point at the frame origin O;
+//   force  F = (n_O, f): the moment about O and the force.
 // Both are expressed in the axes of one frame; their scalar product F . V is a power [W].
 // Featherstone uses the same (angular, linear) order; Pinocchio puts linear first (swap 3x3 blocks
 // when comparing with it, as chapters/00-conventions.md says for Sophus and manif).
@@ -42,19 +42,40 @@ inline Vector6 crossForce(const Vector6& V, const Vector6& F) {
   return stack(w.cross(F.head<3>()) + v.cross(F.tail<3>()), w.cross(F.tail<3>()));
 }
 
-// Spatial inertia of a link about its frame origin, in its frame's axes (Featherstone eq. 2.63):
-// with mass m, centre of mass c and rotational inertia I_c about c,
-//   I = [[I_c + m [c]x [c]x^T, m [c]x], [m [c]x^T, m 1]],
-// so that I V is the link's momentum (angular about O, then linear) when it moves with V = (w,
-// v_O): linear m (v_O + w x c), angular I_c w + c x (linear momentum).
-inline Matrix6 spatialInertia(const LinkInertia& link) {
+// Spatial inertia of a rigid body (or of several welded together) about a frame's origin, in
+// that frame's axes (Featherstone, chapter 2):
+//   I = [[Ibar, [h]x], [[h]x^T, m 1]],
+// ten numbers: the mass m, the first moment h = m c (c the centre of mass) and the rotational
+// inertia about the origin Ibar = I_c + m [c]x [c]x^T (parallel-axis theorem). I V is the body's
+// momentum when it moves with V = (w, v_O): linear m (v_O + w x c), angular Ibar w + h x v_O.
+struct RigidBodyInertia {
+  double m = 0.0;
+  Eigen::Vector3d h = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d Ibar = Eigen::Matrix3d::Zero();
+
+  Vector6 operator*(const Vector6& V) const {
+    const Eigen::Vector3d w = V.head<3>(), v = V.tail<3>();
+    return stack(Ibar * w + h.cross(v), m * v + w.cross(h));
+  }
+  // Welding two bodies together adds their inertias (about the same origin, in the same axes).
+  RigidBodyInertia& operator+=(const RigidBodyInertia& other) {
+    m += other.m;
+    h += other.h;
+    Ibar += other.Ibar;
+    return *this;
+  }
+  Matrix6 matrix() const {
+    Matrix6 I;
+    I << Ibar, lie::hat3(h), lie::hat3(h).transpose(), m * Eigen::Matrix3d::Identity();
+    return I;
+  }
+};
+
+// The spatial inertia of a link from its mass properties (LinkInertia: com and inertia about the
+// com, in the link frame).
+inline RigidBodyInertia spatialInertia(const LinkInertia& link) {
   const Eigen::Matrix3d C = lie::hat3(link.com);
-  Matrix6 I;
-  I.topLeftCorner<3, 3>() = link.inertia + link.mass * C * C.transpose();
-  I.topRightCorner<3, 3>() = link.mass * C;
-  I.bottomLeftCorner<3, 3>() = link.mass * C.transpose();
-  I.bottomRightCorner<3, 3>() = link.mass * Eigen::Matrix3d::Identity();
-  return I;
+  return {link.mass, link.mass * link.com, link.inertia + link.mass * C * C.transpose()};
 }
 
 // Placement of a child frame in its parent: the child's axes R (child to parent, the kit's
@@ -80,22 +101,25 @@ inline Vector6 forceToParent(const Transform& X, const Vector6& F) {
   return stack(X.R * F.head<3>() + X.r.cross(f), f);
 }
 
-// The 6x6 matrix of motionToChild, for quantities that are matrices (inertias).
+// The 6x6 matrix X of motionToChild (for tests and for readers who want the matrices).
 inline Matrix6 motionToChildMatrix(const Transform& X) {
   const Eigen::Matrix3d Rt = X.R.transpose();
   Matrix6 Xm;
-  Xm.topLeftCorner<3, 3>() = Rt;
-  Xm.topRightCorner<3, 3>().setZero();
-  Xm.bottomLeftCorner<3, 3>() = -Rt * lie::hat3(X.r);
-  Xm.bottomRightCorner<3, 3>() = Rt;
+  Xm << Rt, Eigen::Matrix3d::Zero(), -Rt * lie::hat3(X.r), Rt;
   return Xm;
 }
 
-// A spatial inertia given in the child frame, expressed in the parent frame: X^T I X (the
-// momentum X^T I X V of a body seen from the parent, for a parent-frame velocity V).
-inline Matrix6 inertiaToParent(const Transform& X, const Matrix6& I) {
-  const Matrix6 Xm = motionToChildMatrix(X);
-  return Xm.transpose() * I * Xm;
+// A spatial inertia given in the child frame, expressed in the parent frame: X^T I X, the matrix
+// that gives the body's momentum X^T I X V for a parent-frame velocity V. Done on the ten numbers
+// instead of 6x6 products: rotate (h1 = R h, R Ibar R^T), then move the origin by r. Writing out
+// [[1, [r]x], [0, 1]] I_rotated [[1, 0], [-[r]x, 1]] gives h' = h1 + m r and
+// Ibar' = R Ibar R^T - [r]x [h1]x - [h1]x [r]x - m [r]x [r]x (the parallel-axis theorem when h =
+// 0).
+inline RigidBodyInertia inertiaToParent(const Transform& X, const RigidBodyInertia& I) {
+  const Eigen::Vector3d h1 = X.R * I.h;
+  const Eigen::Matrix3d rx = lie::hat3(X.r), h1x = lie::hat3(h1);
+  return {I.m, h1 + I.m * X.r,
+          X.R * I.Ibar * X.R.transpose() - rx * h1x - h1x * rx - I.m * rx * rx};
 }
 
 }  // namespace legkit::model::spatial

@@ -199,6 +199,50 @@ MujocoComparison compareWithMujoco(const QuadrupedDynamics& dynamics, const Quad
   return c;
 }
 
+TEST_CASE("spatial algebra: the structured operations equal their 6x6 matrices",
+          "[57.6][model][dynamics]") {
+  namespace sp = legkit::model::spatial;
+  std::mt19937 gen(5760);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const auto vec6 = [&] {
+    sp::Vector6 x;
+    for (int k = 0; k < 6; ++k) x[k] = n(gen);
+    return x;
+  };
+  for (int trial = 0; trial < 100; ++trial) {
+    sp::Transform X;
+    X.R = Eigen::Quaterniond(n(gen), n(gen), n(gen), n(gen)).normalized().toRotationMatrix();
+    X.r = Eigen::Vector3d(n(gen), n(gen), n(gen));
+    LinkInertia link;
+    link.mass = 1.0 + std::abs(n(gen));
+    link.com = Eigen::Vector3d(n(gen), n(gen), n(gen));
+    const Eigen::Matrix3d A = Eigen::Matrix3d::Random();
+    link.inertia = A * A.transpose() + Eigen::Matrix3d::Identity();
+    const sp::RigidBodyInertia I = sp::spatialInertia(link);
+    const sp::Vector6 V = vec6(), W = vec6(), F = vec6();
+    const sp::Matrix6 Xm = sp::motionToChildMatrix(X);
+    // crm(V) = [[w]x, 0; [v]x, [w]x], crf(V) = -crm(V)^T.
+    sp::Matrix6 crm;
+    crm << lie::hat3(V.head<3>()), Eigen::Matrix3d::Zero(), lie::hat3(V.tail<3>()),
+        lie::hat3(V.head<3>());
+    REQUIRE((sp::crossMotion(V, W) - crm * W).cwiseAbs().maxCoeff() < 1e-12);
+    REQUIRE((sp::crossForce(V, F) + crm.transpose() * F).cwiseAbs().maxCoeff() < 1e-12);
+    REQUIRE((sp::motionToChild(X, V) - Xm * V).cwiseAbs().maxCoeff() < 1e-12);
+    REQUIRE((sp::forceToParent(X, F) - Xm.transpose() * F).cwiseAbs().maxCoeff() < 1e-12);
+    REQUIRE((I * V - I.matrix() * V).cwiseAbs().maxCoeff() < 1e-12);
+    REQUIRE((sp::inertiaToParent(X, I).matrix() - Xm.transpose() * I.matrix() * Xm)
+                .cwiseAbs()
+                .maxCoeff() < 1e-12);
+    // Power is frame-independent: F . V is the same in parent and child.
+    REQUIRE(std::abs(sp::forceToParent(X, F).dot(V) - F.dot(sp::motionToChild(X, V))) < 1e-12);
+    // The momentum of a link: linear m (v + w x c).
+    const sp::Vector6 momentum = I * V;
+    REQUIRE((momentum.tail<3>() - link.mass * (V.tail<3>() + V.head<3>().cross(link.com)))
+                .cwiseAbs()
+                .maxCoeff() < 1e-12);
+  }
+}
+
 TEST_CASE("M and h agree with MuJoCo's mj_fullM and qfrc_bias to 1e-9 on random states",
           "[57.6][model][dynamics][mujoco]") {
   const Robot robot;
