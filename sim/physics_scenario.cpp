@@ -1,0 +1,67 @@
+#include "sim/physics_scenario.hpp"
+
+#include <stdexcept>
+
+namespace legkit::sim {
+namespace {
+
+constexpr double kIce = 0.1;  // friction of the ice (57.X)
+
+// The ice patch of 57.X: under the FR foot's path (y about -0.14 m) from x = 1 m to 4 m; it
+// stops short of the left feet (y about +0.14 m) so that only the right feet meet it.
+FrictionPatch icePatch() {
+  return {{1.0, -0.40}, {4.0, -0.04}, kIce};
+}
+
+}  // namespace
+
+std::vector<std::string> physicsScenarioNames() {
+  return {"physics-stand", "physics-trot",      "physics-turn",
+          "physics-walk",  "physics-push",      "physics-step-down",
+          "physics-ice",   "physics-ice-aware", "physics-ice-push"};
+}
+
+PhysicsScenario physicsScenarioByName(const std::string& name) {
+  PhysicsScenario s;
+  s.name = name;
+  if (name == "physics-stand") {
+    s.gait = Gait::stand();
+  } else if (name == "physics-trot") {
+    s.gait = Gait::trot(2.0);
+    s.velocity = {0.5, 0.0};
+    s.duration = 60.0;
+  } else if (name == "physics-turn") {
+    s.gait = Gait::trot(2.0);
+    s.yaw_rate = 0.5;
+    s.duration = 20.0;
+  } else if (name == "physics-walk") {
+    s.gait = Gait::walk(1.5);
+    s.velocity = {0.2, 0.0};
+    s.duration = 20.0;
+  } else if (name == "physics-push") {
+    s.gait = Gait::stand();
+    s.pushes = {{3.0, 0.2, {0.0, 60.0, 0.0}}};
+  } else if (name == "physics-step-down") {
+    s.gait = Gait::trot(2.0);
+    s.velocity = {0.4, 0.0};
+    s.terrain.step_x = 0.6;
+    s.terrain.step_height = -0.05;
+  } else if (name == "physics-ice" || name == "physics-ice-aware") {
+    s.gait = Gait::trot(2.0);
+    s.velocity = {0.5, 0.0};
+    s.terrain.patches = {icePatch()};
+    s.friction_aware = name == "physics-ice-aware";
+  } else if (name == "physics-ice-push") {
+    s.gait = Gait::stand();
+    s.terrain.friction = kIce;
+    s.friction_aware = true;
+    s.pushes = {{3.0, 0.2, {0.0, 50.0, 0.0}}};
+  } else {
+    std::string known;
+    for (const std::string& n : physicsScenarioNames()) known += (known.empty() ? "" : ", ") + n;
+    throw std::invalid_argument("unknown physics scenario '" + name + "' (known: " + known + ")");
+  }
+  return s;
+}
+
+}  // namespace legkit::sim

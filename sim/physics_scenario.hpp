@@ -1,0 +1,74 @@
+// The scenarios of the physics simulator (sim/physics_simulator.hpp), as plain data: a gait and a
+// command for the walking controller (sim/locomotion_controller.hpp), the terrain and the pushes.
+//
+//   physics-stand      all feet down, 10 s
+//   physics-trot       2 Hz trot at 0.5 m/s forward, 60 s
+//   physics-turn       2 Hz trot turning in place at 0.5 rad/s, 20 s
+//   physics-walk       1.5 Hz walk (one foot in the air at a time) at 0.2 m/s, 20 s
+//   physics-push       standing, pushed sideways (+y) with 60 N for 0.2 s at t = 3 s, 10 s
+//   physics-step-down  2 Hz trot at 0.4 m/s off a 5 cm step at x = 0.6 m, 10 s
+//   physics-ice        2 Hz trot at 0.5 m/s over an ice patch (mu 0.1, 0.6 elsewhere) under the
+//                      FR foot's path from x = 1 m to 4 m, naive controller (believes mu 0.6)
+//   physics-ice-aware  the same with the friction-aware controller (|f_t| <= 0.08 f_n)
+//   physics-ice-push   standing on ice everywhere (mu 0.1), friction-aware, pushed sideways
+//                      with 50 N for 0.2 s at t = 3 s, 10 s
+// Every scenario stands still for stand_time (stationary initialisation), then the gait clock
+// starts and the speed and turn rate ramp up smoothly over ramp_duration.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "sim/gait.hpp"
+
+namespace legkit::sim {
+
+// A region of the ground with another friction coefficient: world x-y box [m].
+struct FrictionPatch {
+  Eigen::Vector2d min = Eigen::Vector2d::Zero(), max = Eigen::Vector2d::Zero();
+  double friction = 0.6;
+};
+
+struct Terrain {
+  double friction = 0.6;  // sliding friction of the ground (the larger of the two geoms' counts)
+  std::vector<FrictionPatch> patches;  // where several overlap, the last one listed holds
+  // A step across the x axis at x = step_x: the ground is at z = 0 for x < step_x and at
+  // z = step_height beyond (< 0: a step down, > 0: a step up; 0: flat).
+  double step_x = 0.0;
+  double step_height = 0.0;
+
+  // Height of the ground at x [m].
+  double height(double x) const { return x < step_x ? 0.0 : step_height; }
+};
+
+// A force on the trunk (at its centre of mass), world frame, constant over [start, start +
+// duration).
+struct Push {
+  double start = 0.0, duration = 0.0;               // [s]
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();  // [N]
+};
+
+struct PhysicsScenario {
+  std::string name;
+  Gait gait;  // its start is set to stand_time by the simulator
+  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();  // heading frame (forward, left) [m/s]
+  double yaw_rate = 0.0;                               // [rad/s]
+  double height = 0.30;                                // base above the ground [m]
+  double swing_height = 0.08;                          // foot lift at mid-swing [m]
+  Terrain terrain;
+  std::vector<Push> pushes;
+  // The friction-aware controller: stance forces within |f_t| <= 0.08 f_n (else 0.6 f_n) and the
+  // stance feet damped relative to the base (sim/locomotion_controller.hpp, kd_stance 30 N s/m).
+  bool friction_aware = false;
+  double stand_time = 1.0;     // still at the start [s]
+  double ramp_duration = 1.0;  // speed and turn rate ramp up over this [s]
+  double duration = 10.0;      // default length of a run [s]
+};
+
+// The scenario called `name` (one of physicsScenarioNames()); throws std::invalid_argument
+// naming it and listing the known names otherwise.
+PhysicsScenario physicsScenarioByName(const std::string& name);
+std::vector<std::string> physicsScenarioNames();
+
+}  // namespace legkit::sim

@@ -1,0 +1,459 @@
+#include "sim/physics_simulator.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+#include "model/mjcf.hpp"
+#include "model/mujoco.hpp"
+#include "model/quadruped_inertia.hpp"
+#include "sim/jet.hpp"
+#include "sim/locomotion_controller.hpp"
+
+namespace legkit::sim {
+namespace {
+
+constexpr double kAwareFriction = 0.08;       // friction cone of the friction-aware controller
+constexpr double kAwareStanceDamping = 30.0;  // ... and its stance foot damping [N s/m]
+constexpr double kNominalFriction = 0.6;      // ... and of the naive one (the nominal ground)
+constexpr double kFallTilt = 1.0;             // |roll| or |pitch| beyond this is a fall [rad]
+
+// Independent generator for one purpose (stream) from the user's seed (as sim/simulator.cpp).
+std::mt19937_64 stream(unsigned seed, unsigned id) {
+  std::seed_seq seq{seed, id, 0x6c65676bu};  // "legk"
+  return std::mt19937_64(seq);
+}
+
+template <typename T>
+[[noreturn]] void bad(const std::string& option, const T& value, const std::string& rule) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "simulatePhysics: " << option << " = " << value << " " << rule;
+  throw std::invalid_argument(os.str());
+}
+
+void checkFriction(const std::string& option, double mu) {
+  if (!(std::isfinite(mu) && mu > 0.0 && mu <= 2.0)) bad(option, mu, "is outside (0, 2]");
+}
+
+void checkOptions(const PhysicsOptions& o) {
+  const PhysicsScenario& s = o.scenario;
+  if (!(std::isfinite(o.duration) && o.duration > 0.0 && o.duration <= 3600.0)) {
+    bad("duration", o.duration, "is outside (0, 3600] s");
+  }
+  if (!(std::isfinite(o.rate) && o.rate > 0.0)) bad("rate", o.rate, "must be > 0 Hz");
+  if (!(std::isfinite(o.physics_rate) && o.physics_rate > 0.0)) {
+    bad("physics_rate", o.physics_rate, "must be > 0 Hz");
+  }
+  const double ratio = o.physics_rate / o.rate;
+  if (ratio < 1.0 - 1e-9 || std::abs(ratio - std::round(ratio)) > 1e-9) {
+    std::ostringstream os;
+    os << "is not a multiple of rate = " << o.rate << " Hz";
+    bad("physics_rate", o.physics_rate, os.str());
+  }
+  const auto nonNegative = [](double x) { return std::isfinite(x) && x >= 0.0; };
+  if (!nonNegative(o.encoder_angle_sigma))
+    bad("encoder_angle_sigma", o.encoder_angle_sigma, "must be >= 0");
+  if (!nonNegative(o.encoder_rate_sigma))
+    bad("encoder_rate_sigma", o.encoder_rate_sigma, "must be >= 0");
+  if (!nonNegative(o.torque_sigma)) bad("torque_sigma", o.torque_sigma, "must be >= 0");
+  if (!nonNegative(o.force_sensor.sigma))
+    bad("force_sensor.sigma", o.force_sensor.sigma, "must be >= 0");
+  if (!std::isfinite(o.force_sensor.bias))
+    bad("force_sensor.bias", o.force_sensor.bias, "must be finite");
+  if (!(o.force_sensor.saturation > 0.0)) {
+    bad("force_sensor.saturation", o.force_sensor.saturation, "must be > 0");
+  }
+  checkFriction("terrain.friction", s.terrain.friction);
+  for (const FrictionPatch& p : s.terrain.patches) {
+    checkFriction("patch friction", p.friction);
+    if (!p.min.allFinite() || !p.max.allFinite() || (p.min.array() >= p.max.array()).any()) {
+      bad("patch", "(" + std::to_string(p.min.x()) + ", " + std::to_string(p.min.y()) + ")",
+          "must have finite min < max");
+    }
+  }
+  if (!std::isfinite(s.terrain.step_x) || !(std::abs(s.terrain.step_height) <= 0.2)) {
+    bad("terrain.step_height", s.terrain.step_height, "must be within +-0.2 m (and step_x finite)");
+  }
+  for (const Push& p : s.pushes) {
+    if (!p.force.allFinite()) bad("push force", p.force.transpose(), "is not finite");
+    if (p.force.norm() > 500.0) bad("push force", p.force.norm(), "N exceeds 500 N");
+    if (!nonNegative(p.start) || !nonNegative(p.duration)) {
+      bad("push time", p.start, "(start and duration) must be finite and >= 0");
+    }
+  }
+  if (!(s.height > 0.15 && s.height < 0.40))
+    bad("scenario.height", s.height, "is outside (0.15, 0.40) m");
+  if (!(nonNegative(s.stand_time) && nonNegative(s.ramp_duration))) {
+    bad("scenario.stand_time", s.stand_time, "(and ramp_duration) must be >= 0");
+  }
+  if (!s.velocity.allFinite() || !std::isfinite(s.yaw_rate)) {
+    bad("scenario.velocity", s.velocity.transpose(), "(and yaw_rate) must be finite");
+  }
+}
+
+// MJCF of the terrain (inside <worldbody>). Flat ground of one friction is the plane alone.
+// Otherwise the ground is tiled with boxes, flush with each other: the patch edges and the step
+// cut the plane into a grid, each cell gets the friction of the patch over its centre (the last
+// one listed) or the ground's, and the height of the ground there (the 200 m x 200 m tiling
+// replaces the plane). Tiling, rather than boxes on the plane, keeps a foot on one surface.
+std::string terrainXml(const Terrain& terrain) {
+  if (terrain.patches.empty() && terrain.step_height == 0.0) return {};
+  constexpr double kFar = 100.0;       // extent of the outer tiles [m]
+  constexpr double kThickness = 0.05;  // of every tile [m]
+  std::vector<double> xs{-kFar, kFar}, ys{-kFar, kFar};
+  if (terrain.step_height != 0.0) xs.push_back(terrain.step_x);
+  for (const FrictionPatch& p : terrain.patches) {
+    xs.insert(xs.end(), {p.min.x(), p.max.x()});
+    ys.insert(ys.end(), {p.min.y(), p.max.y()});
+  }
+  for (std::vector<double>* cuts : {&xs, &ys}) {
+    std::sort(cuts->begin(), cuts->end());
+    cuts->erase(std::unique(cuts->begin(), cuts->end()), cuts->end());
+  }
+  std::ostringstream s;
+  s.precision(17);
+  for (std::size_t i = 0; i + 1 < xs.size(); ++i) {
+    for (std::size_t j = 0; j + 1 < ys.size(); ++j) {
+      const double cx = 0.5 * (xs[i] + xs[i + 1]), cy = 0.5 * (ys[j] + ys[j + 1]);
+      double mu = terrain.friction;
+      for (const FrictionPatch& p : terrain.patches) {
+        if (cx > p.min.x() && cx < p.max.x() && cy > p.min.y() && cy < p.max.y()) mu = p.friction;
+      }
+      const double top = terrain.height(cx);
+      s << "<geom name='tile_" << i << '_' << j << "' type='box' pos='" << cx << ' ' << cy << ' '
+        << top - 0.5 * kThickness << "' size='" << 0.5 * (xs[i + 1] - xs[i]) << ' '
+        << 0.5 * (ys[j + 1] - ys[j]) << ' ' << 0.5 * kThickness << "' friction='" << mu
+        << " 0.005 0.0001'/>\n";
+    }
+  }
+  return s.str();
+}
+
+int id(const mjModel& m, mjtObj type, const std::string& name) {
+  const int i = mj_name2id(&m, type, name.c_str());
+  if (i < 0) throw std::runtime_error("simulatePhysics: the model has no '" + name + "'");
+  return i;
+}
+
+// The simulation: MuJoCo model and data, the ids the simulator reads.
+struct World {
+  model::MjModelPtr m;
+  model::MjDataPtr d;
+  int base_body;
+  int imu_site;
+  std::array<int, model::kNumLegs> foot_geom, foot_site, calf_body;
+};
+
+World buildWorld(const PhysicsOptions& o, const model::QuadrupedGeometry& geometry,
+                 const model::QuadrupedInertia& inertia) {
+  const Terrain& terrain = o.scenario.terrain;
+  model::MjcfOptions mo;
+  mo.timestep = 1.0 / o.physics_rate;
+  mo.ground_friction = terrain.friction;
+  mo.extra_worldbody = terrainXml(terrain);
+  mo.base_position = {0.0, 0.0, o.scenario.height};
+  World w;
+  w.m = model::loadMjcf(model::quadrupedMjcf(geometry, inertia, mo));
+  mjModel& m = *w.m;
+  // With tiles, they are the ground: the plane collides with nothing.
+  if (!mo.extra_worldbody.empty()) {
+    const int plane = id(m, mjOBJ_GEOM, "ground");
+    m.geom_contype[plane] = 0;
+    m.geom_conaffinity[plane] = 0;
+  }
+  w.d = model::makeData(m);
+  w.base_body = id(m, mjOBJ_BODY, "base");
+  w.imu_site = id(m, mjOBJ_SITE, "imu");
+  for (int leg = 0; leg < model::kNumLegs; ++leg) {
+    const std::string n = model::legName(leg);
+    w.foot_geom[leg] = id(m, mjOBJ_GEOM, n + "_foot");
+    w.foot_site[leg] = id(m, mjOBJ_SITE, n + "_foot");
+    w.calf_body[leg] = id(m, mjOBJ_BODY, n + "_calf");
+  }
+  return w;
+}
+
+// The true state of the base and joints in the controller's terms.
+ControllerState trueState(const mjData& d) {
+  ControllerState s;
+  s.p = Eigen::Map<const Eigen::Vector3d>(d.qpos);
+  s.R = Eigen::Quaterniond(d.qpos[3], d.qpos[4], d.qpos[5], d.qpos[6])
+            .normalized()
+            .toRotationMatrix();
+  s.v = Eigen::Map<const Eigen::Vector3d>(d.qvel);
+  s.omega = Eigen::Map<const Eigen::Vector3d>(d.qvel + 3);
+  s.q = Eigen::Map<const io::JointVector>(d.qpos + 7);
+  s.dq = Eigen::Map<const io::JointVector>(d.qvel + 6);
+  return s;
+}
+
+// Per-foot contact truth at the current (pre-integration) state: forces from mj_contactForce in
+// the contact frame (normal, tangent 1, tangent 2), rotated to the world; slip from the velocity
+// of the contact point on the foot. qvel is the velocity of that state.
+std::array<io::FootTruth, model::kNumLegs> contactTruth(const World& w, const double* qvel,
+                                                        double* jac) {
+  const mjModel& m = *w.m;
+  const mjData& d = *w.d;
+  std::array<io::FootTruth, model::kNumLegs> truth{};
+  std::array<Eigen::Vector3d, model::kNumLegs> tangential;
+  std::array<double, model::kNumLegs> strongest{};
+  for (auto& t : tangential) t.setZero();
+  const Eigen::Map<const Eigen::VectorXd> v(qvel, m.nv);
+  for (int c = 0; c < d.ncon; ++c) {
+    const mjContact& con = d.contact[c];
+    for (int leg = 0; leg < model::kNumLegs; ++leg) {
+      const int g = w.foot_geom[leg];
+      if (con.geom1 != g && con.geom2 != g) continue;
+      mjtNum f[6];
+      mj_contactForce(&m, &d, c, f);
+      const Eigen::Map<const Eigen::Matrix<mjtNum, 3, 3, Eigen::RowMajor>> frame(con.frame);
+      // frame rows: normal (from geom1 to geom2), tangent 1, tangent 2. The force acts on geom2.
+      const double sign = con.geom2 == g ? 1.0 : -1.0;
+      const Eigen::Vector3d n = sign * frame.row(0).transpose();
+      truth[leg].normal_force += f[0];
+      tangential[leg] += sign * (f[1] * frame.row(1).transpose() + f[2] * frame.row(2).transpose());
+      if (f[0] > strongest[leg]) {
+        strongest[leg] = f[0];
+        mj_jac(&m, &d, jac, nullptr, con.pos, w.calf_body[leg]);
+        const Eigen::Map<
+            const Eigen::Matrix<mjtNum, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
+            J(jac, 3, m.nv);
+        const Eigen::Vector3d vc = J * v;
+        truth[leg].slip_speed = (vc - vc.dot(n) * n).norm();
+      }
+    }
+  }
+  for (int leg = 0; leg < model::kNumLegs; ++leg) {
+    io::FootTruth& t = truth[leg];
+    t.normal_force = std::max(t.normal_force, 0.0);
+    t.tangential_force = tangential[leg].norm();
+    t.contact = t.normal_force > kContactThreshold;
+    if (!t.contact) t.slip_speed = 0.0;
+    mj_jacSite(&m, &d, jac, nullptr, w.foot_site[leg]);
+    const Eigen::Map<const Eigen::Matrix<mjtNum, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
+        J(jac, 3, m.nv);
+    t.velocity = J * v;
+  }
+  return truth;
+}
+
+// Why the robot counts as fallen at this state, or empty.
+std::string fallReason(const World& w, const PhysicsScenario& s, const ControllerState& x) {
+  const mjModel& m = *w.m;
+  const mjData& d = *w.d;
+  for (int c = 0; c < d.ncon; ++c) {
+    const int b1 = m.geom_bodyid[d.contact[c].geom1], b2 = m.geom_bodyid[d.contact[c].geom2];
+    if ((b1 == w.base_body && b2 == 0) || (b2 == w.base_body && b1 == 0)) {
+      return "the trunk touched the ground";
+    }
+  }
+  const double roll = std::atan2(x.R(2, 1), x.R(2, 2));
+  const double pitch = std::asin(std::clamp(-x.R(2, 0), -1.0, 1.0));
+  std::ostringstream os;
+  if (std::abs(roll) > kFallTilt)
+    os << "|roll| = " << std::abs(roll) << " rad exceeds 1 rad";
+  else if (std::abs(pitch) > kFallTilt)
+    os << "|pitch| = " << std::abs(pitch) << " rad exceeds 1 rad";
+  else if (x.p.z() - s.terrain.height(x.p.x()) < 0.5 * s.height) {
+    os << "the base is " << x.p.z() - s.terrain.height(x.p.x())
+       << " m above the ground, below half the height " << s.height << " m";
+  }
+  return os.str();
+}
+
+}  // namespace
+
+PhysicsOptions PhysicsOptions::forScenario(const std::string& name) {
+  PhysicsOptions o;
+  o.scenario = physicsScenarioByName(name);
+  o.duration = o.scenario.duration;
+  return o;
+}
+
+PhysicsOptions& PhysicsOptions::noiseless() {
+  imu_noise = model::ImuNoise::noiseless();
+  initial_bias = model::ImuBias{};
+  encoder_angle_sigma = 0.0;
+  encoder_rate_sigma = 0.0;
+  torque_sigma = 0.0;
+  force_sensor.sigma = 0.0;
+  force_sensor.bias = 0.0;
+  return *this;
+}
+
+PhysicsResult simulatePhysics(const PhysicsOptions& o) {
+  checkOptions(o);
+  const PhysicsScenario& scenario = o.scenario;
+  const model::QuadrupedGeometry geometry = model::QuadrupedGeometry::go2();
+  const model::QuadrupedInertia inertia = model::QuadrupedInertia::go2();
+  const model::QuadrupedKinematics kinematics(geometry);
+  World w = buildWorld(o, geometry, inertia);
+  mjModel& m = *w.m;
+  mjData& d = *w.d;
+
+  // Start standing still, feet under the hips on the ground (IK).
+  for (int leg = 0; leg < model::kNumLegs; ++leg) {
+    const Eigen::Vector3d foot(
+        geometry.hip_offset[leg].x(),
+        geometry.hip_offset[leg].y() + model::lateralSign(leg) * geometry.abduction_offset,
+        geometry.foot_radius - scenario.height);
+    const Eigen::Vector3d q = kinematics.inverseKinematics(leg, foot);
+    for (int j = 0; j < 3; ++j) d.qpos[7 + io::kJointsPerLeg * leg + j] = q(j);
+  }
+  mj_forward(&m, &d);
+
+  LocomotionCommand command;
+  command.gait = scenario.gait;
+  command.gait.start = scenario.stand_time;
+  command.velocity = scenario.velocity;
+  command.yaw_rate = scenario.yaw_rate;
+  command.height = scenario.height;
+  command.swing_height = scenario.swing_height;
+  command.ramp_duration = scenario.ramp_duration;
+  command.mu_assumed = scenario.friction_aware ? kAwareFriction : kNominalFriction;
+  ControllerGains gains;
+  if (scenario.friction_aware) gains.kd_stance = kAwareStanceDamping;
+  LocomotionController controller(kinematics, inertia.totalMass(), command, trueState(d), gains);
+
+  std::mt19937_64 imu_rng = stream(o.seed, 1);
+  std::mt19937_64 encoder_rng = stream(o.seed, 2);
+  std::mt19937_64 torque_rng = stream(o.seed, 4);
+  std::mt19937_64 force_rng = stream(o.seed, 5);
+  std::normal_distribution<double> unit(0.0, 1.0);
+
+  PhysicsResult out;
+  io::Log& log = out.log;
+  log.layout.joints = true;
+  log.layout.torque = true;
+  log.layout.force = true;
+  log.layout.contact = true;
+  log.layout.ground_truth = o.ground_truth;
+  log.layout.contact_truth = o.ground_truth;
+  std::ostringstream about;
+  about.precision(17);
+  about << "legkit sim (physics, MuJoCo " << mj_versionString() << "): scenario " << scenario.name
+        << ", duration " << o.duration << " s, rate " << o.rate << " Hz, physics " << o.physics_rate
+        << " Hz, seed " << o.seed << (o.closed_loop ? ", closed loop" : "");
+  log.comments.push_back(about.str());
+
+  const double dt = 1.0 / o.rate;
+  const int substeps = static_cast<int>(std::lround(o.physics_rate / o.rate));
+  const long n = std::lround(o.duration * o.rate);
+  log.rows.reserve(n);
+  out.bias.reserve(n);
+  std::vector<mjtNum> jac(3 * m.nv);
+  model::ImuBias bias = o.initial_bias;
+  bool estimated = false;
+  BaseEstimate estimate;
+  io::LogRow sensed;  // the last row: the closed-loop controller's gyro and encoders
+  const double t_track = scenario.stand_time + scenario.ramp_duration;
+  double sq_error = 0.0, yaw_rate_sum = 0.0;
+  Eigen::Vector2d v_sum = Eigen::Vector2d::Zero();
+  long tracked = 0;
+
+  for (long k = 0; k < n; ++k) {
+    io::LogRow row;
+    row.t = k * dt;
+    ControllerState now;
+    Eigen::Matrix<double, io::kNumJoints, 1> applied;
+    std::array<io::FootTruth, model::kNumLegs> truth{};
+    Eigen::Vector3d omega_sum = Eigen::Vector3d::Zero();
+    for (int j = 0; j < substeps; ++j) {
+      mj_step1(&m, &d);
+      const ControllerState x = trueState(d);
+      ControllerState view = x;
+      if (estimated) {
+        view.R = estimate.R;
+        view.p = estimate.p;
+        view.v = estimate.v;
+        view.omega = sensed.gyro;
+        view.q = sensed.q;
+        view.dq = sensed.dq;
+      }
+      const io::JointVector tau =
+          controller.torques(d.time, view, Eigen::Map<const io::JointVector>(d.qfrc_bias + 6));
+      for (int i = 0; i < io::kNumJoints; ++i) d.ctrl[i] = tau(i);
+      mju_zero(d.xfrc_applied + 6 * w.base_body, 6);
+      for (const Push& p : scenario.pushes) {
+        if (d.time >= p.start && d.time < p.start + p.duration) {
+          for (int i = 0; i < 3; ++i) d.xfrc_applied[6 * w.base_body + i] += p.force(i);
+        }
+      }
+      mj_step2(&m, &d);
+      if (j == 0) {
+        now = x;
+        applied = Eigen::Map<const io::JointVector>(d.actuator_force);
+        // The contacts and the kinematics are still those of the state x (before integration).
+        Eigen::Matrix<double, 18, 1> qvel;
+        qvel.head<3>() = x.v;
+        qvel.segment<3>(3) = x.omega;
+        qvel.tail<12>() = x.dq;
+        truth = contactTruth(w, qvel.data(), jac.data());
+        const std::string reason = fallReason(w, scenario, x);
+        if (!reason.empty()) {
+          out.status = {true, row.t, reason};
+          break;
+        }
+      }
+      omega_sum += Eigen::Map<const Eigen::Vector3d>(d.qvel + 3);  // the rate the step applied
+    }
+    if (out.status.fell) break;
+
+    // IMU: mean rate and mean world acceleration over [t_k, t_k + dt).
+    const Eigen::Vector3d a = (Eigen::Map<const Eigen::Vector3d>(d.qvel) - now.v) / dt;
+    const model::ImuBias bias_now = bias;
+    const model::ImuReading imu =
+        model::synthesiseReading(o.imu_noise, dt, now.R, a, omega_sum / substeps, bias, imu_rng);
+    row.gyro = imu.w_m;
+    row.acc = imu.a_m;
+    for (int i = 0; i < io::kNumJoints; ++i) {
+      row.q(i) = now.q(i) + o.encoder_angle_sigma * unit(encoder_rng);
+      row.dq(i) = now.dq(i) + o.encoder_rate_sigma * unit(encoder_rng);
+      row.tau(i) = applied(i) + o.torque_sigma * unit(torque_rng);
+    }
+    for (int leg = 0; leg < model::kNumLegs; ++leg) {
+      const double reading =
+          truth[leg].normal_force + o.force_sensor.bias + o.force_sensor.sigma * unit(force_rng);
+      row.force[leg] = std::clamp(reading, 0.0, o.force_sensor.saturation);
+      row.contact[leg] = truth[leg].contact;
+      if (o.ground_truth) row.gt_feet[leg] = truth[leg];
+    }
+    if (o.ground_truth) {
+      row.gt_p = now.p;
+      row.gt_q = Eigen::Quaterniond(now.R).normalized();
+      row.gt_v = now.v;
+    }
+
+    if (row.t >= t_track) {
+      const Eigen::Matrix3d H =
+          Eigen::AngleAxisd(std::atan2(now.R(1, 0), now.R(0, 0)), Eigen::Vector3d::UnitZ())
+              .toRotationMatrix();
+      const Eigen::Vector3d v_cmd =
+          H * Eigen::Vector3d(scenario.velocity.x(), scenario.velocity.y(), 0.0);
+      sq_error += (now.v - v_cmd).head<2>().squaredNorm();
+      v_sum += (H.transpose() * now.v).head<2>();
+      yaw_rate_sum += (now.R * now.omega).z();
+      ++tracked;
+    }
+    out.max_tilt = std::max(out.max_tilt, std::acos(std::clamp(now.R(2, 2), -1.0, 1.0)));
+
+    log.rows.push_back(row);
+    out.bias.push_back(bias_now);
+    if (o.closed_loop) {
+      sensed = row;
+      estimated = o.closed_loop->update(row, estimate) || estimated;
+    }
+  }
+  if (tracked > 0) {
+    out.velocity_rmse = std::sqrt(sq_error / tracked);
+    out.mean_velocity = v_sum / tracked;
+    out.mean_yaw_rate = yaw_rate_sum / tracked;
+  }
+  return out;
+}
+
+}  // namespace legkit::sim
