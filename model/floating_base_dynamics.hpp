@@ -54,7 +54,8 @@ using GeneralizedMatrix = Eigen::Matrix<double, kNumDof, kNumDof>;
 using ContactJacobian = Eigen::Matrix<double, 3, kNumDof>;
 using JointVector12 = Eigen::Matrix<double, kNumJointDof, 1>;  // index 3 * leg + joint
 
-// The robot's configuration and velocity in the coordinates above.
+// The robot's configuration and velocity in the coordinates above. R must be a rotation matrix
+// (not checked: orthonormalize an integrated attitude before use).
 struct FloatingBaseState {
   Eigen::Vector3d p = Eigen::Vector3d::Zero();      // base origin, world [m]
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // base attitude, body to world

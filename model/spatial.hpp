@@ -113,8 +113,8 @@ inline Matrix6 motionToChildMatrix(const Transform& X) {
 // that gives the body's momentum X^T I X V for a parent-frame velocity V. Done on the ten numbers
 // instead of 6x6 products: rotate (h1 = R h, R Ibar R^T), then move the origin by r. Writing out
 // [[1, [r]x], [0, 1]] I_rotated [[1, 0], [-[r]x, 1]] gives h' = h1 + m r and
-// Ibar' = R Ibar R^T - [r]x [h1]x - [h1]x [r]x - m [r]x [r]x (the parallel-axis theorem when h =
-// 0).
+//   Ibar' = R Ibar R^T - [r]x [h1]x - [h1]x [r]x - m [r]x [r]x
+// (the parallel-axis theorem when h = 0).
 inline RigidBodyInertia inertiaToParent(const Transform& X, const RigidBodyInertia& I) {
   const Eigen::Vector3d h1 = X.R * I.h;
   const Eigen::Matrix3d rx = lie::hat3(X.r), h1x = lie::hat3(h1);

@@ -6,16 +6,18 @@
 // it makes (the dynamics must make none per call).
 #include <mujoco/mujoco.h>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstdlib>
 #include <new>
 #include <random>
 #include <stdexcept>
+#include <string>
 
 #include "model/floating_base_dynamics.hpp"
 #include "model/mjcf.hpp"
