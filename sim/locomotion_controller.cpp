@@ -136,10 +136,18 @@ Vector6d LocomotionController::desiredWrench(double t, double dt, const Controll
   double ground = 0.0;
   for (double z : ground_) ground += z / model::kNumLegs;
 
-  const Eigen::Vector3d a_h(
+  Eigen::Vector3d a_h(
       a_cmd.x() + gains_.kv_x * ex + gains_.ki_x * v_error_integral_,
       a_cmd.y() - gains_.kp_y * lateral_error_ + gains_.kd_y * (v_cmd.y() - v_h.y()),
       gains_.kp_z * (ground + command_.height - s.p.z()) - gains_.kd_z * s.v.z());
+  if (command_.gait.alwaysStance()) {
+    // Standing: keep the base over the centre of its feet, wherever they are (after a push on ice
+    // they are not where they started).
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& p : foot_p_) centre += p / model::kNumLegs;
+    const Eigen::Vector3d e = H.transpose() * (s.p - centre);
+    a_h.head<2>() = -gains_.kp_y * e.head<2>() - gains_.kd_y * v_h.head<2>();
+  }
   Vector6d w;
   w.head<3>() = mass_ * (H * a_h - model::gravity());  // F = m (a_des - g)
   // The feet cannot push sideways harder than the assumed friction allows: ask for no more, so

@@ -10,6 +10,8 @@
 //     height     a_z = kp_z (z_ground + h - p_z) - kd_z v_z
 //     forward    a_x = kv_x (v_x* - v_x) + ki_x int (v_x* - v_x) dt        (heading frame)
 //     lateral    a_y = -kp_y y_err + kd_y (v_y* - v_y),  y_err = int (v_y - v_y*) dt
+//     standing   (a gait that never lifts a foot) a_xy = -kp_y e - kd_y v_xy, e = p - centre of the
+//                feet (heading frame): the base stays over its feet, wherever a push left them
 //   T = kp_R .* Log(R_des R^T) + kd_R .* (omega_des - R omega)    (R_des = Rz(yaw*), world)
 // and is split over the n stance feet by weighted least squares (WLS, closed form, Eigen LDLT):
 //   f = argmin (A f - w)^T S (A f - w) + alpha |f|^2,   A = [I ... I; [r_1]x ... [r_n]x],
@@ -96,7 +98,8 @@ class LocomotionController {
                        const ControllerGains& gains = {});
 
   // Joint torques (index 3 * leg + joint) at time t. leg_bias: gravity + Coriolis of the leg
-  // joints. Calls must come with non-decreasing t (the integral terms advance by the difference).
+  // joints. Calls must come with non-decreasing t (the integral terms advance by the difference;
+  // they start at t = 0, so a robot may settle at negative times first).
   io::JointVector torques(double t, const ControllerState& s, const io::JointVector& leg_bias);
 
   // The stance flags and ground forces (world, on each foot) of the last call.

@@ -19,6 +19,7 @@ namespace {
 constexpr double kAwareFriction = 0.08;       // friction cone of the friction-aware controller
 constexpr double kAwareStanceDamping = 30.0;  // ... and its stance foot damping [N s/m]
 constexpr double kNominalFriction = 0.6;      // ... and of the naive one (the nominal ground)
+constexpr double kSettleTime = 0.5;           // simulated before the log starts [s]
 constexpr double kFallTilt = 1.0;             // |roll| or |pitch| beyond this is a fall [rad]
 
 // Independent generator for one purpose (stream) from the user's seed (as sim/simulator.cpp).
@@ -318,6 +319,18 @@ PhysicsResult simulatePhysics(const PhysicsOptions& o) {
   ControllerGains gains;
   if (scenario.friction_aware) gains.kd_stance = kAwareStanceDamping;
   LocomotionController controller(kinematics, inertia.totalMass(), command, trueState(d), gains);
+
+  // Settle: the feet start exactly touching the ground, carrying nothing; let the contacts take
+  // the weight before the log starts at t = 0 (controller only, nothing logged).
+  d.time = -kSettleTime;
+  while (d.time < -0.5 / o.physics_rate) {
+    mj_step1(&m, &d);
+    const io::JointVector tau = controller.torques(
+        d.time, trueState(d), Eigen::Map<const io::JointVector>(d.qfrc_bias + 6));
+    for (int i = 0; i < io::kNumJoints; ++i) d.ctrl[i] = tau(i);
+    mj_step2(&m, &d);
+  }
+  d.time = 0.0;
 
   std::mt19937_64 imu_rng = stream(o.seed, 1);
   std::mt19937_64 encoder_rng = stream(o.seed, 2);

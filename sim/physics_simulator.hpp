@@ -7,7 +7,8 @@
 // each tile has the friction of the patch over it, or the ground's, and the ground's height), so a
 // foot always stands on exactly one surface; the plane is then switched off (200 m x 200 m of
 // tiles). MuJoCo takes the larger friction of two touching geoms: the robot's are low. The robot
-// starts standing still at the scenario's height, feet under the hips (IK).
+// starts standing still at the scenario's height, feet under the hips (IK), and settles for 0.5 s
+// (controller running, nothing logged) so that the feet carry the weight at t = 0.
 //
 // Stepping: physics at physics_rate (Euler, Newton, elliptic cone, impratio 10). Every physics step
 // runs mj_step1, the controller (on the state of that instant and the leg joints' qfrc_bias), the
