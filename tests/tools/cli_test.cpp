@@ -306,3 +306,90 @@ TEST_CASE("cli: sim --foot-columns says the feet replace the joints, and they do
   CHECK(log.layout.foot_columns == legkit::io::FootCovariance::kDiagonal);
   CHECK_FALSE(log.layout.joints);
 }
+
+TEST_CASE("cli: sim writes a physics log with the true contacts", "[cli][physics]") {
+  const Folder dir("physics");
+  CHECK_THAT(runLegkit(dir.path, {"sim", "--help"}).output,
+             Catch::Matchers::Contains("physics (MuJoCo"));
+  Result r = runLegkit(
+      dir.path, {"sim", "--scenario", "physics-stand", "--duration", "0.3", "--out", "s.csv"});
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("physics-stand (physics)"));
+  const legkit::io::Log log = legkit::io::readLog((dir.path / "s.csv").string());
+  CHECK(log.rows.size() == 300);
+  CHECK(log.layout.joints);
+  CHECK(log.layout.contact_truth);
+  CHECK(log.layout.ground_truth);
+  // Standing: every foot down, carrying about a quarter of the weight (15.2 kg).
+  double total = 0.0;
+  for (int leg = 0; leg < 4; ++leg) {
+    CHECK(log.rows.back().gt_feet[leg].contact);
+    CHECK(log.rows.back().contact[leg]);
+    total += log.rows.back().gt_feet[leg].normal_force;
+  }
+  CHECK(total == Approx(15.2 * 9.81).epsilon(0.1));
+  // The controller on an estimator's estimate instead of the truth.
+  r = runLegkit(dir.path, {"sim", "--scenario", "physics-stand", "--duration", "0.3",
+                           "--closed-loop", "invariant-ekf", "--out", "c.csv"});
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("closed loop on invariant-ekf"));
+}
+
+TEST_CASE("cli: physics options out of range are usage errors naming the option",
+          "[cli][physics]") {
+  const Folder dir("physics_usage");
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--scenario", "physics-trot", "--friction", "5"}, "--friction"},
+      {{"--scenario", "physics-trot", "--friction", "0"}, "--friction"},
+      {{"--scenario", "physics-trot", "--push", "80"}, "--push"},
+      {{"--scenario", "physics-push", "--push", "1000"}, "--push"},
+      {{"--scenario", "physics-push", "--push", "-5"}, "--push"},
+      {{"--scenario", "physics-stand", "--duration", "0"}, "--duration"},
+      {{"--scenario", "physics-stand", "--duration", "1e6"}, "--duration"},
+      {{"--scenario", "physics-stand", "--closed-loop", "kalman"}, "--closed-loop"},
+      {{"--scenario", "physics-stand", "--slip-foot", "FR"}, "--slip-foot"},
+      {{"--scenario", "physics-stand", "--rate", "1e5"}, "--rate"},
+      {{"--scenario", "trot", "--friction", "0.3"}, "--friction"},
+      {{"--scenario", "trot", "--closed-loop", "eskf"}, "--closed-loop"},
+      {{"--scenario", "physics-nowhere"}, "--scenario"},
+  };
+  for (const auto& [arguments, option] : cases) {
+    std::vector<std::string> command = {"sim", "--out", "bad.csv"};
+    command.insert(command.end(), arguments.begin(), arguments.end());
+    const Result r = runLegkit(dir.path, command);
+    INFO(r.output);
+    CHECK(r.status == 1);
+    CHECK_THAT(r.output, Catch::Matchers::Contains(option));
+    CHECK_FALSE(fs::exists(dir.path / "bad.csv"));
+  }
+}
+
+TEST_CASE("cli: a robot that falls is a failed run with the time and the reason",
+          "[cli][physics]") {
+  const Folder dir("fall");
+  // 300 N for 0.2 s on a 15 kg robot: 4 m/s sideways.
+  Result r = runLegkit(dir.path, {"sim", "--scenario", "physics-push", "--push", "300",
+                                  "--duration", "6", "--out", "fall.csv"});
+  CHECK(r.status == 3);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("the robot fell at t = "));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("wrote the log up to the fall"));
+  const legkit::io::Log log = legkit::io::readLog((dir.path / "fall.csv").string());
+  CHECK(log.rows.back().t > 3.0);  // the push starts at 3 s
+  CHECK(log.rows.back().t < 6.0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains(std::to_string(log.rows.size()) + " rows"));
+}
+
+TEST_CASE("cli: run takes a physics scenario: every estimator, the same table", "[cli][physics]") {
+  const Folder dir("physics_run");
+  const Result r = runLegkit(dir.path, {"run", "--scenario", "physics-trot", "--duration", "2.5",
+                                        "--no-plots", "--out", "out"});
+  INFO(r.output);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("simulated physics-trot (MuJoCo physics), 2.5 s"));
+  for (const char* name :
+       {"imu-dead-reckoning", "leg-odometry", "linear-kf", "eskf", "invariant-ekf", "tsif"}) {
+    CHECK_THAT(r.output, Catch::Matchers::Contains(name));
+  }
+  CHECK(dataRows(dir.path / "out" / "log.csv") == 2500);
+  CHECK_THAT(slurp(dir.path / "out" / "summary.json"), Catch::Matchers::Contains("\"fell\": null"));
+}

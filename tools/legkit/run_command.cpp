@@ -22,6 +22,8 @@
 #include "io/log_reader.hpp"
 #include "io/log_writer.hpp"
 #include "output.hpp"
+#include "scenarios.hpp"
+#include "sim/physics_simulator.hpp"
 #include "sim/simulator.hpp"
 
 namespace legkit::tools {
@@ -230,12 +232,12 @@ RunCommand::RunCommand(CLI::App& app)
     : command_(app.add_subcommand(
           "run", "The main job: simulate (or read a log), run every estimator, print one table")) {
   CLI::App& c = *command_;
-  std::string names;
-  for (const std::string& n : sim::scenarioNames()) names += (names.empty() ? "" : ", ") + n;
-  c.add_option("--scenario", scenario_, "Simulated motion: " + names)
-      ->check(CLI::IsMember(sim::scenarioNames()))
+  c.add_option("--scenario", scenario_, "Simulated motion, " + scenarioHelp())
+      ->check(CLI::IsMember(allScenarioNames()))
       ->capture_default_str();
-  c.add_option("--duration", duration_, "Simulated time [s]")->capture_default_str();
+  duration_option_ = c.add_option("--duration", duration_,
+                                  "Simulated time [s] (default 60; a physics scenario's own "
+                                  "length, e.g. 10 s for physics-stand)");
   c.add_option("--seed", seed_, "Random seed of the simulation")->capture_default_str();
   // Not CLI::ExistingFile: a log that cannot be read is an input error (exit 2), whatever the
   // reason, with the reader's own message.
@@ -264,10 +266,27 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   // ANEES measures the filters and not a mismatched sensor model; for a recorded log, the
   // front end's defaults (chapters/57.3).
   FrontendNoise noise;
+  std::string fall;  // a physics run whose robot fell: when and why (its log ends there)
   if (!log_.empty()) {
     log = io::readLog(log_);
     checkTimeBase(log, max_gap_ > 0 ? std::optional<double>(max_gap_) : std::nullopt);
     source = log_;
+  } else if (isPhysicsScenario(scenario_)) {
+    sim::PhysicsOptions options;
+    options.scenario = sim::physicsScenarioByName(scenario_);
+    options.duration = duration_option_->count() > 0 ? duration_ : options.scenario.duration;
+    options.seed = seed_;
+    sim::PhysicsResult result = sim::simulatePhysics(options);
+    if (result.status.fell) {
+      fall = describeFall(result.status);
+      if (result.log.rows.empty()) throw InputError(scenario_ + ": " + fall + "; nothing written");
+    }
+    log = std::move(result.log);
+    noise = matchedFrontendNoise(options);
+    std::ostringstream os;
+    os << "simulated " << scenario_ << " (MuJoCo physics), " << options.duration << " s, seed "
+       << seed_ << ", Go2-class sensors, true contact flags";
+    source = os.str();
   } else {
     sim::SimOptions options;
     options.scenario = sim::scenarioByName(scenario_);
@@ -304,7 +323,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   }
   bool all_ok = true;
   for (const RunRow& r : rows) all_ok = all_ok && r.run.ok();
-  const int status = all_ok ? kExitOk : kExitUnhealthy;
+  const int status = all_ok && fall.empty() ? kExitOk : kExitUnhealthy;
 
   std::string plot_failure;  // empty: drawn (or not asked for)
   if (plots_) plot_failure = plot("run_plots.py", {dir.string(), "--log", log_path.string()});
@@ -316,6 +335,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
       {"estimate_rate_hz",
        estimate_rate_ > 0.0 ? nlohmann::json(estimate_rate_) : nlohmann::json("all")},
       {"exit_status", status},
+      {"fell", fall.empty() ? nlohmann::json(nullptr) : nlohmann::json(fall)},
       {"plots", !plots_                ? "not drawn (--no-plots)"
                 : plot_failure.empty() ? "drawn"
                                        : plot_failure},
@@ -326,6 +346,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
     out << toJson(rows).dump(2) << '\n';
   } else {
     out << "legkit run: " << source << " (" << log.rows.size() << " samples)\n\n";
+    if (!fall.empty()) out << "FELL: " << fall << "; the table covers the log up to the fall\n\n";
     printRunTable(out, rows);
     out << "\nANEES: the mean over the run of NEES / its degrees of freedom (9, or 6 for the "
            "linear KF, whose attitude is an input); about 1 for a consistent filter.\n";
@@ -335,6 +356,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
         << (plots_ && plot_failure.empty() ? ", plots" : "") << ", summary.json)\n";
   }
   if (!plot_failure.empty()) std::cerr << "legkit run: " << plot_failure << '\n';
+  if (!fall.empty()) std::cerr << "legkit run: " << scenario_ << ": " << fall << '\n';
   return status;
 }
 

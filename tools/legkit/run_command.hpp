@@ -3,6 +3,7 @@
 // output folder.
 //   legkit run                          trot, 60 s, Go2-class sensors, seed 1
 //   legkit run --scenario turn --seed 3
+//   legkit run --scenario physics-trot --duration 20   (MuJoCo physics; a fall exits 3)
 //   legkit run --log my_robot.csv --json
 #pragma once
 
@@ -45,6 +46,7 @@ class RunCommand {
 
  private:
   CLI::App* command_;
+  CLI::Option* duration_option_;
   std::string scenario_ = "trot";
   double duration_ = 60.0;
   unsigned seed_ = 1;

@@ -1,11 +1,19 @@
 #include "sim_command.hpp"
 
 #include <chrono>
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <sstream>
 #include <stdexcept>
 
+#include "closed_loop.hpp"
+#include "estimation/estimators.hpp"
 #include "io/log_writer.hpp"
 #include "model/quadruped.hpp"
 #include "output.hpp"
+#include "scenarios.hpp"
+#include "sim/physics_simulator.hpp"
 #include "sim/simulator.hpp"
 
 namespace legkit::tools {
@@ -36,17 +44,30 @@ sim::Dropout parseDropout(const std::string& text) {
   }
 }
 
+// A value of `option` inside [low, high], or a UsageError naming the option and the range.
+void checkRange(const char* option, double value, double low, double high, const char* unit) {
+  if (!(value >= low && value <= high)) {
+    std::ostringstream os;
+    os << option << ": " << value << " is out of range [" << low << ", " << high << "]" << unit;
+    throw UsageError(os.str());
+  }
+}
+
+double seconds(std::chrono::steady_clock::duration d) {
+  return std::chrono::duration<double>(d).count();
+}
+
 }  // namespace
 
 SimCommand::SimCommand(CLI::App& app)
     : command_(app.add_subcommand("sim", "Simulate a scenario and write its log (CSV)")) {
   CLI::App& c = *command_;
-  std::string names;
-  for (const std::string& n : sim::scenarioNames()) names += (names.empty() ? "" : ", ") + n;
-  c.add_option("--scenario", scenario_, "Motion: " + names)
-      ->check(CLI::IsMember(sim::scenarioNames()))
+  c.add_option("--scenario", scenario_, "Motion, " + scenarioHelp())
+      ->check(CLI::IsMember(allScenarioNames()))
       ->capture_default_str();
-  c.add_option("--duration", duration_, "Simulated time [s]")->capture_default_str();
+  duration_option_ = c.add_option("--duration", duration_,
+                                  "Simulated time [s], up to 3600 (default 60; a physics "
+                                  "scenario's own length, e.g. 10 s for physics-stand)");
   c.add_option("--rate", rate_, "IMU and log rate [Hz]")->capture_default_str();
   c.add_option("--seed", seed_, "Random seed (same seed, same log)")->capture_default_str();
   c.add_option("--out", out_, "Log file to write")->capture_default_str();
@@ -58,23 +79,53 @@ SimCommand::SimCommand(CLI::App& app)
        "diagonal (feet with variances) or full (feet with covariances)")
       ->check(CLI::IsMember({"none", "diagonal", "full"}))
       ->capture_default_str();
-  c.add_option("--slip-foot", slip_foot_, "Fault: this foot (FL, FR, RL, RR) slips in stance");
-  c.add_option("--slip-start", slip_start_, "Slip start [s]")->capture_default_str();
-  c.add_option("--slip-duration", slip_duration_, "Slip duration [s]")->capture_default_str();
-  c.add_option("--slip-speed", slip_speed_, "Slip speed [m/s]")->capture_default_str();
-  c.add_option("--slip-direction", slip_direction_, "Slip direction in the world: X Y")
-      ->expected(2)
-      ->capture_default_str();
-  c.add_option("--contact-offset", contact_offset_,
-               "Fault: logged contact flags lag the true contacts by this [s]")
-      ->capture_default_str();
-  c.add_option("--dropout", dropouts_, "Fault: no IMU samples in START:DURATION [s]; repeatable");
-  c.add_option("--dropout-probability", dropout_probability_,
-               "Fault: each IMU sample is lost with this probability")
-      ->capture_default_str();
+  analytic_only_ = {
+      c.add_option("--slip-foot", slip_foot_,
+                   "Fault (analytic scenarios): this foot (FL, FR, RL, RR) slips in stance"),
+      c.add_option("--slip-start", slip_start_, "Slip start [s]")->capture_default_str(),
+      c.add_option("--slip-duration", slip_duration_, "Slip duration [s]")->capture_default_str(),
+      c.add_option("--slip-speed", slip_speed_, "Slip speed [m/s]")->capture_default_str(),
+      c.add_option("--slip-direction", slip_direction_, "Slip direction in the world: X Y")
+          ->expected(2)
+          ->capture_default_str(),
+      c.add_option("--contact-offset", contact_offset_,
+                   "Fault (analytic): logged contact flags lag the true contacts by this [s]")
+          ->capture_default_str(),
+      c.add_option("--dropout", dropouts_,
+                   "Fault (analytic): no IMU samples in START:DURATION [s]; repeatable"),
+      c.add_option("--dropout-probability", dropout_probability_,
+                   "Fault (analytic): each IMU sample is lost with this probability")
+          ->capture_default_str()};
+  analytic_only_.push_back(c.get_option("--foot-columns"));
+  friction_option_ = c.add_option("--friction", friction_,
+                                  "Physics: friction coefficient of the ground, 0.05..2 (patches "
+                                  "such as the ice keep their own)")
+                         ->capture_default_str();
+  push_option_ = c.add_option("--push", push_,
+                              "Physics: lateral push on the standing trunk [N], 0..300 (the push "
+                              "scenarios: physics-push, physics-ice-push)");
+  std::vector<std::string> estimators = estimatorNames();
+  std::string estimator_list;
+  for (const std::string& n : estimators)
+    estimator_list += (estimator_list.empty() ? "" : ", ") + n;
+  closed_loop_option_ = c.add_option("--closed-loop", closed_loop_,
+                                     "Physics: the controller acts on this estimator's estimate "
+                                     "instead of the truth: " +
+                                         estimator_list)
+                            ->check(CLI::IsMember(estimators));
 }
 
 int SimCommand::run(std::ostream& out) const {
+  if (duration_option_->count() > 0) checkRange("--duration", duration_, 1e-3, 3600.0, " s");
+  return isPhysicsScenario(scenario_) ? runPhysics(out) : runAnalytic(out);
+}
+
+int SimCommand::runAnalytic(std::ostream& out) const {
+  for (const CLI::Option* o : {friction_option_, push_option_, closed_loop_option_}) {
+    if (o->count() > 0) {
+      throw UsageError(o->get_name() + ": only for the physics scenarios (" + scenarioHelp() + ")");
+    }
+  }
   sim::SimOptions options;
   options.scenario = sim::scenarioByName(scenario_);
   options.duration = duration_;
@@ -101,9 +152,68 @@ int SimCommand::run(std::ostream& out) const {
   const auto simulated = std::chrono::steady_clock::now();
   writeAtomically(out_, [&](std::ostream& f) { io::writeLog(f, result.log, out_); });
   const auto written = std::chrono::steady_clock::now();
-  const auto seconds = [](auto d) { return std::chrono::duration<double>(d).count(); };
   out << "legkit sim: " << scenario_ << ", " << duration_ << " s, seed " << seed_ << ": "
       << result.log.rows.size() << " rows written to " << out_ << " (simulated in "
+      << seconds(simulated - start) << " s, written in " << seconds(written - simulated) << " s)\n";
+  return 0;
+}
+
+int SimCommand::runPhysics(std::ostream& out) const {
+  for (const CLI::Option* o : analytic_only_) {
+    if (o->count() > 0) {
+      throw UsageError(o->get_name() + ": only for the analytic scenarios, not " + scenario_);
+    }
+  }
+  sim::PhysicsOptions options;
+  options.scenario = sim::physicsScenarioByName(scenario_);
+  options.duration = duration_option_->count() > 0 ? duration_ : options.scenario.duration;
+  if (friction_option_->count() > 0) {
+    checkRange("--friction", friction_, 0.05, 2.0, "");
+    options.scenario.terrain.friction = friction_;
+  }
+  if (push_option_->count() > 0) {
+    if (options.scenario.pushes.empty()) {
+      throw UsageError("--push: " + scenario_ +
+                       " has no push (the push scenarios: physics-push, physics-ice-push)");
+    }
+    checkRange("--push", push_, 0.0, 300.0, " N");
+    for (sim::Push& p : options.scenario.pushes) {  // the same direction, this force
+      const double norm = p.force.norm();
+      p.force =
+          norm > 0.0 ? Eigen::Vector3d(p.force * (push_ / norm)) : Eigen::Vector3d(0.0, push_, 0.0);
+    }
+  }
+  checkRange("--rate", rate_, 100.0, options.physics_rate, " Hz (at most the physics rate)");
+  options.rate = rate_;
+  options.seed = seed_;
+  if (noiseless_) options.noiseless();
+  options.ground_truth = !no_ground_truth_;
+  std::unique_ptr<EstimatorBaseState> closed_loop;
+  if (!closed_loop_.empty()) {
+    closed_loop = std::make_unique<EstimatorBaseState>(
+        closed_loop_, physicsLogLayout(options.ground_truth), matchedFrontendNoise(options));
+    options.closed_loop = closed_loop.get();
+  }
+
+  const auto start = std::chrono::steady_clock::now();
+  const sim::PhysicsResult result = sim::simulatePhysics(options);
+  const auto simulated = std::chrono::steady_clock::now();
+  const std::size_t rows = result.log.rows.size();
+  if (rows > 0) {
+    writeAtomically(out_, [&](std::ostream& f) { io::writeLog(f, result.log, out_); });
+  }
+  const auto written = std::chrono::steady_clock::now();
+  const std::string loop = closed_loop_.empty() ? "" : ", closed loop on " + closed_loop_;
+  if (result.status.fell) {
+    std::cerr << "legkit sim: " << scenario_ << loop << ": " << describeFall(result.status) << "; "
+              << (rows > 0 ? "wrote the log up to the fall, " + std::to_string(rows) +
+                                 " rows, to " + out_
+                           : "nothing written")
+              << '\n';
+    return kExitUnhealthy;
+  }
+  out << "legkit sim: " << scenario_ << " (physics" << loop << "), " << options.duration
+      << " s, seed " << seed_ << ": " << rows << " rows written to " << out_ << " (simulated in "
       << seconds(simulated - start) << " s, written in " << seconds(written - simulated) << " s)\n";
   return 0;
 }
