@@ -10,15 +10,15 @@
 #include "model/mjcf.hpp"
 #include "model/mujoco.hpp"
 #include "model/quadruped_inertia.hpp"
-#include "sim/jet.hpp"
 #include "sim/locomotion_controller.hpp"
 
 namespace legkit::sim {
 namespace {
 
-constexpr double kAwareFriction = 0.08;       // friction cone of the friction-aware controller
-constexpr double kAwareStanceDamping = 30.0;  // ... and its stance foot damping [N s/m]
-constexpr double kNominalFriction = 0.6;      // ... and of the naive one (the nominal ground)
+constexpr double kNominalFriction = 0.6;      // friction cone of the naive controller
+constexpr double kAwareFriction = 0.08;       // ... and of the friction-aware one
+constexpr double kAwareStanceDamping = 30.0;  // the friction-aware stance foot damping [N s/m]
+constexpr double kTerrainExtent = 100.0;      // the tiled ground spans +-this in x and y [m]
 constexpr double kSettleTime = 0.5;           // simulated before the log starts [s]
 constexpr double kFallTilt = 1.0;             // |roll| or |pitch| beyond this is a fall [rad]
 
@@ -71,13 +71,17 @@ void checkOptions(const PhysicsOptions& o) {
   checkFriction("terrain.friction", s.terrain.friction);
   for (const FrictionPatch& p : s.terrain.patches) {
     checkFriction("patch friction", p.friction);
-    if (!p.min.allFinite() || !p.max.allFinite() || (p.min.array() >= p.max.array()).any()) {
-      bad("patch", "(" + std::to_string(p.min.x()) + ", " + std::to_string(p.min.y()) + ")",
-          "must have finite min < max");
+    if (!p.min.allFinite() || !p.max.allFinite() || (p.min.array() >= p.max.array()).any() ||
+        p.min.cwiseAbs().maxCoeff() > kTerrainExtent ||
+        p.max.cwiseAbs().maxCoeff() > kTerrainExtent) {
+      bad("patch min", p.min.transpose(), "(and max) must satisfy min < max within +-100 m");
     }
   }
-  if (!std::isfinite(s.terrain.step_x) || !(std::abs(s.terrain.step_height) <= 0.2)) {
-    bad("terrain.step_height", s.terrain.step_height, "must be within +-0.2 m (and step_x finite)");
+  if (!(std::abs(s.terrain.step_height) <= 0.2)) {
+    bad("terrain.step_height", s.terrain.step_height, "is outside [-0.2, 0.2] m");
+  }
+  if (!(std::abs(s.terrain.step_x) < kTerrainExtent)) {
+    bad("terrain.step_x", s.terrain.step_x, "is outside (-100, 100) m");
   }
   for (const Push& p : s.pushes) {
     if (!p.force.allFinite()) bad("push force", p.force.transpose(), "is not finite");
@@ -103,9 +107,8 @@ void checkOptions(const PhysicsOptions& o) {
 // replaces the plane). Tiling, rather than boxes on the plane, keeps a foot on one surface.
 std::string terrainXml(const Terrain& terrain) {
   if (terrain.patches.empty() && terrain.step_height == 0.0) return {};
-  constexpr double kFar = 100.0;       // extent of the outer tiles [m]
-  constexpr double kThickness = 0.05;  // of every tile [m]
-  std::vector<double> xs{-kFar, kFar}, ys{-kFar, kFar};
+  const double thickness = 0.05 + std::abs(terrain.step_height);  // of every tile [m]
+  std::vector<double> xs{-kTerrainExtent, kTerrainExtent}, ys{-kTerrainExtent, kTerrainExtent};
   if (terrain.step_height != 0.0) xs.push_back(terrain.step_x);
   for (const FrictionPatch& p : terrain.patches) {
     xs.insert(xs.end(), {p.min.x(), p.max.x()});
@@ -126,8 +129,8 @@ std::string terrainXml(const Terrain& terrain) {
       }
       const double top = terrain.height(cx);
       s << "<geom name='tile_" << i << '_' << j << "' type='box' pos='" << cx << ' ' << cy << ' '
-        << top - 0.5 * kThickness << "' size='" << 0.5 * (xs[i + 1] - xs[i]) << ' '
-        << 0.5 * (ys[j + 1] - ys[j]) << ' ' << 0.5 * kThickness << "' friction='" << mu
+        << top - 0.5 * thickness << "' size='" << 0.5 * (xs[i + 1] - xs[i]) << ' '
+        << 0.5 * (ys[j + 1] - ys[j]) << ' ' << 0.5 * thickness << "' friction='" << mu
         << " 0.005 0.0001'/>\n";
     }
   }
@@ -254,14 +257,17 @@ std::string fallReason(const World& w, const PhysicsScenario& s, const Controlle
   }
   const double roll = std::atan2(x.R(2, 1), x.R(2, 2));
   const double pitch = std::asin(std::clamp(-x.R(2, 0), -1.0, 1.0));
+  const double above = x.p.z() - s.terrain.height(x.p.x());
+  const bool tilted = std::abs(roll) > kFallTilt || std::abs(pitch) > kFallTilt;
+  if (!tilted && above >= 0.5 * s.height) return {};  // the usual case: no string is built
   std::ostringstream os;
-  if (std::abs(roll) > kFallTilt)
+  if (std::abs(roll) > kFallTilt) {
     os << "|roll| = " << std::abs(roll) << " rad exceeds 1 rad";
-  else if (std::abs(pitch) > kFallTilt)
+  } else if (std::abs(pitch) > kFallTilt) {
     os << "|pitch| = " << std::abs(pitch) << " rad exceeds 1 rad";
-  else if (x.p.z() - s.terrain.height(x.p.x()) < 0.5 * s.height) {
-    os << "the base is " << x.p.z() - s.terrain.height(x.p.x())
-       << " m above the ground, below half the height " << s.height << " m";
+  } else {
+    os << "the base is " << above << " m above the ground, below half the height " << s.height
+       << " m";
   }
   return os.str();
 }

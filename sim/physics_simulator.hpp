@@ -111,10 +111,12 @@ struct PhysicsResult {
   double max_tilt = 0.0;  // largest angle between the body z axis and the vertical, all rows [rad]
 };
 
-// Runs the scenario. Throws std::invalid_argument naming the option and its value for an unknown
-// scenario, a friction outside (0, 2], a push force non-finite or above 500 N, a push time
-// non-finite or negative, a duration outside (0, 3600] s, a non-positive rate or a physics_rate
-// that is not a multiple of rate, or a negative noise figure.
+// Runs the scenario. Throws std::invalid_argument naming the option and its value for a friction
+// (ground or patch) outside (0, 2], a patch with min >= max or beyond +-100 m, a step higher than
+// 0.2 m or beyond +-100 m, a push force non-finite or above 500 N, a push time non-finite or
+// negative, a height outside (0.15, 0.40) m, a duration outside (0, 3600] s, a non-positive rate or
+// a physics_rate that is not a multiple of rate, or a negative noise figure (an unknown scenario
+// name is physicsScenarioByName's error). A fall is not an exception: see PhysicsStatus.
 PhysicsResult simulatePhysics(const PhysicsOptions& options);
 
 }  // namespace legkit::sim
