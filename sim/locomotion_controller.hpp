@@ -33,11 +33,12 @@
 // (kd_st = 0): the physics simulator's friction-aware controller sets kd_st = 30 N s/m.
 //
 // Swing: Cartesian PD on the foot point, tau_i = J_i^T (kp_s (p_d - p_f) + kd_s (v_d - v_f)) + h_i,
-// along a quintic from the lift-off point to a Raibert foothold
-//   p_td = hip(t_td) + v T_stance / 2 + k_r (v - v*) + (yaw rate turn of the hip over T_stance /
-//   2),
-// with a lift of swing_height (64 s^3 (1 - s)^3, as in sim/quadruped_motion.hpp). The foothold
-// height is the ground height the leg stood on at its last lift-off.
+// along a quintic from the lift-off point to a Raibert foothold (horizontal parts)
+//   p_td = p + v T + Rz(psi + omega* T) n_i + k_r (v - v*),   T = t_touchdown - t + T_stance / 2,
+// n_i the nominal foot under the hip (body frame), psi the heading: where the hip will be at the
+// middle of the next stance, plus the speed-error correction. The lift is swing_height
+// 64 s^3 (1 - s)^3 (as in sim/quadruped_motion.hpp). Each leg remembers the ground height it
+// stood on at its last lift-off: that is its foothold height, and z_ground is their mean.
 //
 // Gains (ControllerGains, defaults): kp_z 100 1/s^2, kd_z 20 1/s, kv_x 6 1/s, ki_x 6 1/s^2,
 // kp_y 30 1/s^2, kd_y 8 1/s, kp_R (150, 300, 60) N m/rad, kd_R (8, 16, 6) N m s/rad,
