@@ -48,6 +48,26 @@ TEST_CASE("A physics trot log reads back exactly through the strict reader",
   }
 }
 
+TEST_CASE("Without ground truth the log has neither truth group and still reads back",
+          "[sim][physics][log]") {
+  sim::PhysicsOptions o = shortRun("physics-stand", 0.5);
+  o.ground_truth = false;
+  const sim::PhysicsResult run = sim::simulatePhysics(o);
+  CHECK_FALSE(run.log.layout.ground_truth);
+  CHECK_FALSE(run.log.layout.contact_truth);
+  std::stringstream file;
+  io::writeLog(file, run.log);
+  const std::size_t at = file.str().find("\nt,");  // the header, after the comments
+  REQUIRE(at != std::string::npos);
+  const std::string header = file.str().substr(at + 1);
+  CHECK(header.substr(0, header.find('\n')).find("gt_") == std::string::npos);
+  const io::Log back = io::readLog(file, "physics.csv");
+  CHECK(back.layout == run.log.layout);
+  REQUIRE(back.rows.size() == run.log.rows.size());
+  CHECK(io::exactlyEqual(back.rows.back(), run.log.rows.back()));
+  CHECK(back.rows.back().contact[0]);  // the contact flags stay (the true contacts)
+}
+
 TEST_CASE("Same options, identical log; another seed, other noise on the same motion",
           "[sim][physics]") {
   sim::PhysicsOptions o = shortRun("physics-trot", 1.5);
