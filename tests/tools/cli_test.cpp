@@ -393,3 +393,22 @@ TEST_CASE("cli: run takes a physics scenario: every estimator, the same table", 
   CHECK(dataRows(dir.path / "out" / "log.csv") == 2500);
   CHECK_THAT(slurp(dir.path / "out" / "summary.json"), Catch::Matchers::Contains("\"fell\": null"));
 }
+
+TEST_CASE("cli: run on a physics scenario whose robot falls: the table up to the fall, exit 3",
+          "[cli][physics]") {
+  const Folder dir("physics_fall_run");
+  // The naive controller on the ice patch (57.X) falls within its 10 s.
+  const Result r =
+      runLegkit(dir.path, {"run", "--scenario", "physics-ice", "--no-plots", "--out", "out"});
+  INFO(r.output);
+  CHECK(r.status == 3);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("FELL: the robot fell at t = "));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("the table covers the log up to the fall"));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("invariant-ekf"));
+  const std::string summary = slurp(dir.path / "out" / "summary.json");
+  CHECK_THAT(summary, Catch::Matchers::Contains("\"fell\": \"the robot fell at t = "));
+  CHECK_THAT(summary, Catch::Matchers::Contains("\"exit_status\": 3"));
+  const int rows = dataRows(dir.path / "out" / "log.csv");
+  CHECK(rows > 3000);
+  CHECK(rows < 10000);
+}

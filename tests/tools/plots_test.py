@@ -110,5 +110,54 @@ class Figures(unittest.TestCase):
                 self.assertGreater(os.path.getsize(path), 10000, png)
 
 
+PLOTS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools", "plots")
+
+
+class PhysicsFigures(unittest.TestCase):
+    """Chapter 57.0's physics figures and table, drawn from short physics runs."""
+
+    def setUp(self):
+        self.legkit = os.environ.get("LEGKIT")
+        if not self.legkit:
+            self.skipTest("LEGKIT (the legkit program) not given")
+
+    def sim(self, folder, scenario, duration):
+        out = os.path.join(folder, scenario + ".csv")
+        subprocess.run([self.legkit, "sim", "--scenario", scenario, "--duration", str(duration),
+                        "--out", out], capture_output=True, check=True)
+        return out
+
+    def test_contact_forces_and_ice_slip(self):
+        with tempfile.TemporaryDirectory() as folder:
+            logs = [self.sim(folder, "physics-trot", 4.6), self.sim(folder, "physics-ice", 4.0),
+                    self.sim(folder, "physics-ice-aware", 4.0)]
+            done = subprocess.run([sys.executable, os.path.join(PLOTS, "57.0-physics-contacts.py")]
+                                  + logs + [folder], capture_output=True, text=True, check=True)
+            for png in ("57.0-contact-forces.png", "57.0-ice-slip.png"):
+                path = os.path.join(folder, png)
+                self.assertGreater(os.path.getsize(path), 10000, png)
+            # The stance figures the chapter quotes, per foot of each log.
+            self.assertEqual(done.stdout.count("touchdowns, peak slip median"), 12, done.stdout)
+            # A log without the contact-truth columns is refused by name.
+            subprocess.run([self.legkit, "sim", "--duration", "4.6", "--out",
+                            os.path.join(folder, "analytic.csv")], capture_output=True, check=True)
+            refused = subprocess.run([sys.executable,
+                                      os.path.join(PLOTS, "57.0-physics-contacts.py"),
+                                      os.path.join(folder, "analytic.csv")] + logs[1:] + [folder],
+                                     capture_output=True, text=True)
+            self.assertNotEqual(refused.returncode, 0)
+            self.assertIn("no column gt_fn_FR", refused.stderr)
+
+    def test_the_estimators_table_and_the_closed_loop(self):
+        done = subprocess.run([sys.executable, os.path.join(PLOTS, "57.0-physics-table.py"),
+                               self.legkit, "--duration", "1.5", "--loop-duration", "1.5"],
+                              capture_output=True, text=True, check=True)
+        rows = [line for line in done.stdout.splitlines() if line.startswith("| `physics-")]
+        self.assertEqual(len(rows), 5 * 9)  # five tables, nine physics scenarios
+        self.assertIn("| truth |", done.stdout)
+        self.assertIn("| invariant-ekf |", done.stdout)
+        self.assertNotIn("nan", done.stdout)
+
+
 if __name__ == "__main__":
     unittest.main()
