@@ -16,9 +16,9 @@ FrictionPatch icePatch() {
 }  // namespace
 
 std::vector<std::string> physicsScenarioNames() {
-  return {"physics-stand", "physics-trot",      "physics-turn",
-          "physics-walk",  "physics-push",      "physics-step-down",
-          "physics-ice",   "physics-ice-aware", "physics-ice-push"};
+  return {"physics-stand",     "physics-trot",      "physics-turn",  "physics-walk",
+          "physics-push",      "physics-step-down", "physics-slope", "physics-ice",
+          "physics-ice-aware", "physics-ice-push"};
 }
 
 PhysicsScenario physicsScenarioByName(const std::string& name) {
@@ -46,6 +46,12 @@ PhysicsScenario physicsScenarioByName(const std::string& name) {
     s.velocity = {0.4, 0.0};
     s.terrain.step_x = 0.6;
     s.terrain.step_height = -0.05;
+  } else if (name == "physics-slope") {
+    s.gait = Gait::trot(2.0);
+    s.velocity = {0.4, 0.0};
+    s.terrain.slope_start = 0.6;
+    s.terrain.slope_angle = 0.16;
+    s.terrain.slope_length = 1.0;
   } else if (name == "physics-ice" || name == "physics-ice-aware") {
     s.gait = Gait::trot(2.0);
     s.velocity = {0.5, 0.0};

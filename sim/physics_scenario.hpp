@@ -7,6 +7,8 @@
 //   physics-walk       1.5 Hz walk (one foot in the air at a time) at 0.2 m/s, 20 s
 //   physics-push       standing, pushed sideways (+y) with 60 N for 0.2 s at t = 3 s, 10 s
 //   physics-step-down  2 Hz trot at 0.4 m/s off a 5 cm step at x = 0.6 m, 10 s
+//   physics-slope      2 Hz trot at 0.4 m/s up a 0.16 rad (9.2 degree) ramp from x = 0.6 m to
+//                      1.6 m (16.1 cm rise) onto a plateau, 10 s
 //   physics-ice        2 Hz trot at 0.5 m/s over an ice patch (mu 0.1, 0.6 elsewhere) under the
 //                      FR foot's path from x = 1 m to 4 m, naive controller (believes mu 0.6)
 //   physics-ice-aware  the same with the friction-aware controller (|f_t| <= 0.08 f_n)
@@ -17,6 +19,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -37,9 +41,25 @@ struct Terrain {
   // z = step_height beyond (< 0: a step down, > 0: a step up; 0: flat).
   double step_x = 0.0;
   double step_height = 0.0;
+  // A ramp across the x axis: from x = slope_start the ground rises at slope_angle (< 0: falls)
+  // over a horizontal run of slope_length, then stays at the top's height (a plateau); 0: flat.
+  // It adds to the step where both are present.
+  double slope_start = 0.0;   // [m]
+  double slope_angle = 0.0;   // [rad], |slope_angle| <= 0.35
+  double slope_length = 1.0;  // horizontal run [m], > 0
 
-  // Height of the ground at x [m].
-  double height(double x) const { return x < step_x ? 0.0 : step_height; }
+  // Height of the ground at x [m]: the step plus the rise of the ramp so far.
+  double height(double x) const {
+    return (x < step_x ? 0.0 : step_height) +
+           std::tan(slope_angle) * std::clamp(x - slope_start, 0.0, slope_length);
+  }
+  // Slope dz/dx of the ground at x (on the ramp: tan(slope_angle); 0 elsewhere).
+  double grade(double x) const {
+    const bool on_ramp = x > slope_start && x < slope_start + slope_length;
+    return on_ramp ? std::tan(slope_angle) : 0.0;
+  }
+  // Flat ground: neither a step nor a ramp.
+  bool level() const { return step_height == 0.0 && slope_angle == 0.0; }
 };
 
 // A force on the trunk (at its centre of mass), world frame, constant over [start, start +

@@ -19,6 +19,7 @@ constexpr double kNominalFriction = 0.6;      // friction cone of the naive cont
 constexpr double kAwareFriction = 0.08;       // ... and of the friction-aware one
 constexpr double kAwareStanceDamping = 30.0;  // the friction-aware stance foot damping [N s/m]
 constexpr double kTerrainExtent = 100.0;      // the tiled ground spans +-this in x and y [m]
+constexpr double kMaxSlopeAngle = 0.35;       // steepest ramp accepted [rad] (about 20 degrees)
 constexpr double kSettleTime = 0.5;           // simulated before the log starts [s]
 constexpr double kFallTilt = 1.0;             // |roll| or |pitch| beyond this is a fall [rad]
 
@@ -83,6 +84,17 @@ void checkOptions(const PhysicsOptions& o) {
   if (!(std::abs(s.terrain.step_x) < kTerrainExtent)) {
     bad("terrain.step_x", s.terrain.step_x, "is outside (-100, 100) m");
   }
+  if (!(std::abs(s.terrain.slope_angle) <= kMaxSlopeAngle)) {
+    bad("terrain.slope_angle", s.terrain.slope_angle, "is outside [-0.35, 0.35] rad");
+  }
+  if (!(s.terrain.slope_length > 0.0)) {
+    bad("terrain.slope_length", s.terrain.slope_length, "must be > 0 m");
+  }
+  if (!(s.terrain.slope_start > -kTerrainExtent &&
+        s.terrain.slope_start + s.terrain.slope_length < kTerrainExtent)) {
+    bad("terrain.slope_start", s.terrain.slope_start,
+        "(to slope_start + slope_length) is outside (-100, 100) m");
+  }
   for (const Push& p : s.pushes) {
     if (!p.force.allFinite()) bad("push force", p.force.transpose(), "is not finite");
     if (p.force.norm() > 500.0) bad("push force", p.force.norm(), "N exceeds 500 N");
@@ -101,15 +113,21 @@ void checkOptions(const PhysicsOptions& o) {
 }
 
 // MJCF of the terrain (inside <worldbody>). Flat ground of one friction is the plane alone.
-// Otherwise the ground is tiled with boxes, flush with each other: the patch edges and the step
-// cut the plane into a grid, each cell gets the friction of the patch over its centre (the last
-// one listed) or the ground's, and the height of the ground there (the 200 m x 200 m tiling
-// replaces the plane). Tiling, rather than boxes on the plane, keeps a foot on one surface.
+// Otherwise the ground is tiled with boxes, flush with each other: the patch edges, the step and
+// the ends of the ramp cut the plane into a grid, each cell gets the friction of the patch over its
+// centre (the last one listed) or the ground's, and the ground's surface over it (the 200 m x 200 m
+// tiling replaces the plane). Tiling, rather than boxes on the plane, keeps a foot on one surface.
+// The ground is a straight line in x over a cell (its kinks are cuts), so each tile is a box
+// pitched about y to the cell's grade, its top face exactly that line; on level cells the pitch is
+// 0. A pitched tile's lower corners fall under its neighbours' tops, so no edge sticks out.
 std::string terrainXml(const Terrain& terrain) {
-  if (terrain.patches.empty() && terrain.step_height == 0.0) return {};
+  if (terrain.patches.empty() && terrain.level()) return {};
   const double thickness = 0.05 + std::abs(terrain.step_height);  // of every tile [m]
   std::vector<double> xs{-kTerrainExtent, kTerrainExtent}, ys{-kTerrainExtent, kTerrainExtent};
   if (terrain.step_height != 0.0) xs.push_back(terrain.step_x);
+  if (terrain.slope_angle != 0.0) {
+    xs.insert(xs.end(), {terrain.slope_start, terrain.slope_start + terrain.slope_length});
+  }
   for (const FrictionPatch& p : terrain.patches) {
     xs.insert(xs.end(), {p.min.x(), p.max.x()});
     ys.insert(ys.end(), {p.min.y(), p.max.y()});
@@ -121,15 +139,21 @@ std::string terrainXml(const Terrain& terrain) {
   std::ostringstream s;
   s.precision(17);
   for (std::size_t i = 0; i + 1 < xs.size(); ++i) {
+    const double cx = 0.5 * (xs[i] + xs[i + 1]);
+    const double pitch = std::atan(terrain.grade(cx));  // the tile's top rises at this angle
+    const double half_length = 0.5 * (xs[i + 1] - xs[i]) / std::cos(pitch);  // along the top
+    // Box centre: half the thickness below the middle of the top face, along the top's normal
+    // n = (-sin pitch, 0, cos pitch); MuJoCo's euler (0, -pitch, 0) turns +x up by pitch.
+    const double x = cx + 0.5 * thickness * std::sin(pitch);
+    const double z = terrain.height(cx) - 0.5 * thickness * std::cos(pitch);
     for (std::size_t j = 0; j + 1 < ys.size(); ++j) {
-      const double cx = 0.5 * (xs[i] + xs[i + 1]), cy = 0.5 * (ys[j] + ys[j + 1]);
+      const double cy = 0.5 * (ys[j] + ys[j + 1]);
       double mu = terrain.friction;
       for (const FrictionPatch& p : terrain.patches) {
         if (cx > p.min.x() && cx < p.max.x() && cy > p.min.y() && cy < p.max.y()) mu = p.friction;
       }
-      const double top = terrain.height(cx);
-      s << "<geom name='tile_" << i << '_' << j << "' type='box' pos='" << cx << ' ' << cy << ' '
-        << top - 0.5 * thickness << "' size='" << 0.5 * (xs[i + 1] - xs[i]) << ' '
+      s << "<geom name='tile_" << i << '_' << j << "' type='box' pos='" << x << ' ' << cy << ' '
+        << z << "' euler='0 " << -pitch << " 0' size='" << half_length << ' '
         << 0.5 * (ys[j + 1] - ys[j]) << ' ' << 0.5 * thickness << "' friction='" << mu
         << " 0.005 0.0001'/>\n";
     }

@@ -2,12 +2,13 @@
 // of sim/locomotion_controller.hpp, logging what a real robot would log (io/log.hpp, the same
 // format as sim/simulator.hpp) plus the true contacts (the contact_truth group).
 //
-// World: the generated MJCF on a ground plane of the terrain's friction. With patches or a step
-// the ground is instead tiled with flush boxes (the patch edges and the step cut it into a grid;
-// each tile has the friction of the patch over it, or the ground's, and the ground's height), so a
-// foot always stands on exactly one surface; the plane is then switched off (200 m x 200 m of
-// tiles). MuJoCo takes the larger friction of two touching geoms: the robot's are low. The robot
-// starts standing still at the scenario's height, feet under the hips (IK), and settles for 0.5 s
+// World: the generated MJCF on a ground plane of the terrain's friction. With patches, a step or
+// a ramp the ground is instead tiled with flush boxes (the patch edges, the step and the ramp's
+// ends cut it into a grid; each tile has the friction of the patch over it, or the ground's, and
+// its top face is the ground's surface there: level, or pitched to the ramp's grade), so a foot
+// always stands on exactly one surface; the plane is then switched off (200 m x 200 m of tiles).
+// MuJoCo takes the larger friction of two touching geoms: the robot's are low. The robot starts
+// standing still at the scenario's height, feet under the hips (IK), and settles for 0.5 s
 // (controller running, nothing logged) so that the feet carry the weight at t = 0.
 //
 // Stepping: physics at physics_rate (Euler, Newton, elliptic cone, impratio 10). Every physics step
@@ -113,10 +114,11 @@ struct PhysicsResult {
 
 // Runs the scenario. Throws std::invalid_argument naming the option and its value for a friction
 // (ground or patch) outside (0, 2], a patch with min >= max or beyond +-100 m, a step higher than
-// 0.2 m or beyond +-100 m, a push force non-finite or above 500 N, a push time non-finite or
-// negative, a height outside (0.15, 0.40) m, a duration outside (0, 3600] s, a non-positive rate or
-// a physics_rate that is not a multiple of rate, or a negative noise figure (an unknown scenario
-// name is physicsScenarioByName's error). A fall is not an exception: see PhysicsStatus.
+// 0.2 m or beyond +-100 m, a ramp steeper than 0.35 rad, not longer than 0 m or beyond +-100 m, a
+// push force non-finite or above 500 N, a push time non-finite or negative, a height outside
+// (0.15, 0.40) m, a duration outside (0, 3600] s, a non-positive rate or a physics_rate that is not
+// a multiple of rate, or a negative noise figure (an unknown scenario name is
+// physicsScenarioByName's error). A fall is not an exception: see PhysicsStatus.
 PhysicsResult simulatePhysics(const PhysicsOptions& options);
 
 }  // namespace legkit::sim
