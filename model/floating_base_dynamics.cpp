@@ -70,7 +70,7 @@ QuadrupedDynamics::QuadrupedDynamics(const QuadrupedGeometry& geometry,
     I_[hip] = spatial::spatialInertia(inertia.hip[leg]);
     I_[thigh] = spatial::spatialInertia(inertia.thigh[leg]);
     I_[calf] = spatial::spatialInertia(inertia.calf[leg]);
-    armature_.segment<3>(3 * leg) = inertia.armature;
+    armature_.segment<3>(Eigen::Index{3} * leg) = inertia.armature;
   }
 }
 
@@ -172,7 +172,7 @@ ContactJacobian QuadrupedDynamics::footJacobian(int leg, const FloatingBaseState
     throw std::invalid_argument("QuadrupedDynamics::footJacobian: leg id " + std::to_string(leg) +
                                 " is out of range (expected 0..3: FL, FR, RL, RR)");
   }
-  const Eigen::Vector3d q_leg = x.q.segment<3>(3 * leg);
+  const Eigen::Vector3d q_leg = x.q.segment<3>(Eigen::Index{3} * leg);
   const Eigen::Vector3d B_p_f = kin_.footPosition(leg, q_leg);
   ContactJacobian J = ContactJacobian::Zero();
   J.leftCols<3>().setIdentity();                                        // v

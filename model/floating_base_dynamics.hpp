@@ -4,15 +4,16 @@
 //
 // The equation of motion (chapter 57's prerequisite, written for the velocity nu):
 //   M(q) nudot + h(q, nu) = S^T tau + J_c^T lambda
-//   M       18x18 mass matrix: the kinetic energy is T = 1/2 nu^T M nu (symmetric, positive
-//   definite); h       the bias forces: what the joints and the base would have to supply for nudot
-//   = 0,
-//           gravity plus the velocity-product (Coriolis and centrifugal) terms;
-//   S^T tau the 12 motor torques; S = [0_{12x6} 1_{12}] selects the joints: no motor acts on
-//           the base, which is why its 6 rows have no tau (it is "floating");
+// with the terms
+//   M             the 18x18 mass matrix, symmetric positive definite: the kinetic energy is
+//                 T = 1/2 nu^T M nu;
+//   h             the bias forces, gravity plus the velocity-product (Coriolis and centrifugal)
+//                 terms: what the joints and the base would have to supply for nudot = 0;
+//   S^T tau       the 12 motor torques; S = [0_{12x6} 1_{12}] selects the joints: no motor acts
+//                 on the base, which is why its 6 rows have no tau (it is "floating");
 //   J_c^T lambda  the contact forces lambda (world frame, 3 per foot in contact), mapped through
-//           the foot Jacobian J_c of footJacobian() (foot velocity = J_c nu, so by virtual power
-//           a foot force lambda does the generalized work J_c^T lambda).
+//                 the foot Jacobian J_c of footJacobian() (foot velocity = J_c nu, so by virtual
+//                 power a foot force lambda does the generalized work J_c^T lambda).
 //
 // Coordinates, in MuJoCo's order so that the mapping to a MuJoCo model with a free joint
 // (model/mjcf.hpp) is the identity: configuration (p, R, q), velocity

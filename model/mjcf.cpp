@@ -68,11 +68,12 @@ void checkGeometry(const QuadrupedGeometry& g) {
   }
   for (int leg = 0; leg < kNumLegs; ++leg) {
     const std::string n = legName(leg);
+    const std::string q_min = "geometry.q_min[" + n + "]", q_max = "geometry.q_max[" + n + "]";
     requireFinite(g.hip_offset[leg], "geometry.hip_offset[" + n + "]");
-    requireFinite(g.q_min[leg], "geometry.q_min[" + n + "]");
-    requireFinite(g.q_max[leg], "geometry.q_max[" + n + "]");
+    requireFinite(g.q_min[leg], q_min);
+    requireFinite(g.q_max[leg], q_max);
     if ((g.q_min[leg].array() > g.q_max[leg].array()).any()) {
-      bad("geometry.q_min[" + n + "] exceeds geometry.q_max[" + n + "]");
+      bad(std::string(q_min).append(" exceeds ").append(q_max));
     }
   }
 }

@@ -1,60 +1,20 @@
 // "No heap allocation per filter step", checked for every estimator of the kit across what
 // changes the shape of a filter's problem: touchdowns and lift-offs of every gait (one, two and
 // four feet down), feet given slots on a hexapod, and inputs the contract rejects (an IMU sample
-// beyond range, a foot beyond range). This program counts every heap allocation it makes.
+// beyond range, a foot beyond range). This program counts every heap allocation it makes
+// (tests/allocation_counter.hpp).
 #include <catch2/catch.hpp>
 
-#include <atomic>
-#include <cstdlib>
 #include <memory>
-#include <new>
 #include <string>
 #include <vector>
 
+#include "allocation_counter.hpp"
 #include "estimation/estimators.hpp"
 #include "estimation/invariant/invariant_ekf.hpp"
 #include "estimation/log_frontend.hpp"
 #include "hexapod_inputs.hpp"
 #include "sim/simulator.hpp"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  return operator new(size);
-}
-// The nothrow forms too (Catch uses them): every form must pair with the free() below, or a
-// sanitizer build reports an allocation/deallocation mismatch.
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  ++g_allocations;
-  return std::malloc(size == 0 ? 1 : size);
-}
-void* operator new[](std::size_t size, const std::nothrow_t& tag) noexcept {
-  return operator new(size, tag);
-}
-void operator delete(void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 namespace legkit {
 namespace {
@@ -87,17 +47,17 @@ int contactChanges(const std::vector<StepInput>& steps) {
 
 // Heap allocations made by reset() and every step() of `steps`, on a filter built beforehand.
 long allocationsOfRun(Estimator& e, const test::Recording& inputs) {
-  const long before = g_allocations.load();
+  const long before = test::allocationCount();
   e.reset(inputs.x0);
   for (const StepInput& in : inputs.steps) e.step(in);
-  return g_allocations.load() - before;
+  return test::allocationCount() - before;
 }
 
 }  // namespace
 
 TEST_CASE("no allocation: every estimator, through the touchdowns and lift-offs of every gait",
           "[estimator]") {
-  for (const std::string& gait : {"walk", "trot", "bound", "turn"}) {
+  for (const char* gait : {"walk", "trot", "bound", "turn"}) {
     const test::Recording inputs = scenario(gait, 2.0);
     REQUIRE(contactChanges(inputs.steps) >= 8);  // the gait really steps in 2 s
     for (const std::string& name : estimatorNames()) {

@@ -3,62 +3,23 @@
 // need no simulator: M symmetric positive definite, the base block's mass, h at rest against the
 // links' weights, the kinetic energy against the links' velocities, and the foot Jacobian against
 // MuJoCo's mj_jacSite and finite differences of the FK. This program counts every heap allocation
-// it makes (the dynamics must make none per call).
+// it makes (tests/allocation_counter.hpp; the dynamics must make none per call).
 #include <mujoco/mujoco.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <cstdlib>
-#include <new>
 #include <random>
 #include <stdexcept>
 #include <string>
 
+#include "allocation_counter.hpp"
 #include "model/floating_base_dynamics.hpp"
 #include "model/mjcf.hpp"
 #include "model/mujoco.hpp"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  return operator new(size);
-}
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  ++g_allocations;
-  return std::malloc(size == 0 ? 1 : size);
-}
-void* operator new[](std::size_t size, const std::nothrow_t& tag) noexcept {
-  return operator new(size, tag);
-}
-void operator delete(void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, const std::nothrow_t&) noexcept {
-  std::free(p);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 using namespace legkit::model;
 
@@ -379,12 +340,12 @@ TEST_CASE("massMatrix, biasForces and footJacobian allocate nothing",
   std::mt19937 gen(5765);
   const FloatingBaseState x = randomState(robot.geometry, gen);
   double sink = 0.0;
-  const long before = g_allocations.load();
+  const long before = legkit::test::allocationCount();
   for (int i = 0; i < 10; ++i) {
     sink += robot.dynamics.massMatrix(x)(0, 0) + robot.dynamics.biasForces(x)[0] +
             robot.dynamics.footJacobian(i % kNumLegs, x)(0, 0);
   }
-  const long allocations = g_allocations.load() - before;
+  const long allocations = legkit::test::allocationCount() - before;
   CHECK(allocations == 0);
   CHECK(std::isfinite(sink));
 }
