@@ -30,6 +30,11 @@ double headingOf(const Eigen::Matrix3d& R) {
   return std::atan2(R(1, 0), R(0, 0));
 }
 
+// First index of leg's joints in a JointVector (3 * leg).
+Eigen::Index legIndex(int leg) {
+  return Eigen::Index{io::kJointsPerLeg} * leg;
+}
+
 // 64 s^3 (1 - s)^3 and its time derivative (sim/quadruped_motion.cpp's lift profile).
 Eigen::Vector2d lift(double s, double T) {
   const double r = 1.0 - s;
@@ -53,8 +58,7 @@ LocomotionController::LocomotionController(const model::QuadrupedKinematics& kin
     nominal_[leg] = {g.hip_offset[leg].x(),
                      g.hip_offset[leg].y() + model::lateralSign(leg) * g.abduction_offset, 0.0};
     const Eigen::Vector3d foot =
-        initial.p +
-        initial.R * kinematics_.footPosition(leg, initial.q.segment<3>(io::kJointsPerLeg * leg));
+        initial.p + initial.R * kinematics_.footPosition(leg, initial.q.segment<3>(legIndex(leg)));
     lift_off_[leg] = foot;
     ground_[leg] = foot.z() - g.foot_radius;
     stance_[leg] = true;
@@ -64,12 +68,14 @@ LocomotionController::LocomotionController(const model::QuadrupedKinematics& kin
 
 io::JointVector LocomotionController::torques(double t, const ControllerState& s,
                                               const io::JointVector& leg_bias) {
-  const double dt = std::max(t - t_last_, 0.0);
+  // Time since the last call, counted from t = 0 only: the integral terms (and the desired yaw)
+  // start at t = 0, whatever a settle before it did.
+  const double dt = std::clamp(t, 0.0, std::max(t - t_last_, 0.0));
   t_last_ = t;
   const double radius = kinematics_.geometry().foot_radius;
   for (int leg = 0; leg < model::kNumLegs; ++leg) {
-    const Eigen::Vector3d q = s.q.segment<3>(io::kJointsPerLeg * leg);
-    const Eigen::Vector3d dq = s.dq.segment<3>(io::kJointsPerLeg * leg);
+    const Eigen::Vector3d q = s.q.segment<3>(legIndex(leg));
+    const Eigen::Vector3d dq = s.dq.segment<3>(legIndex(leg));
     const Eigen::Vector3d r_body = kinematics_.footPosition(leg, q);
     const Eigen::Matrix3d J_body = kinematics_.footJacobian(leg, q);
     J_[leg] = s.R * J_body;
@@ -113,7 +119,7 @@ io::JointVector LocomotionController::torques(double t, const ControllerState& s
       v_d.z() += command_.swing_height * h(1);
       foot_force = gains_.kp_swing * (p_d - foot_p_[leg]) + gains_.kd_swing * (v_d - foot_v_[leg]);
     }
-    tau.segment<3>(io::kJointsPerLeg * leg) += J_[leg].transpose() * foot_force;
+    tau.segment<3>(legIndex(leg)) += J_[leg].transpose() * foot_force;
   }
   return tau;
 }
@@ -173,26 +179,29 @@ void LocomotionController::distribute(const ControllerState& s, const Vector6d& 
   // asking for the most negative one and split again over the others (an active set).
   WlsVector f;
   while (n > 0) {
-    Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 3 * model::kNumLegs> A(6, 3 * n);
+    const Eigen::Index size = Eigen::Index{3} * n;
+    Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 3 * model::kNumLegs> A(6, size);
     for (int k = 0; k < n; ++k) {
-      A.block<3, 3>(0, 3 * k).setIdentity();
-      A.block<3, 3>(3, 3 * k) = skew(foot_p_[legs[k]] - s.p);
+      A.block<3, 3>(0, Eigen::Index{3} * k).setIdentity();
+      A.block<3, 3>(3, Eigen::Index{3} * k) = skew(foot_p_[legs[k]] - s.p);
     }
     // Normal equations of min (A f - w)^T S (A f - w) + alpha |f|^2.
     const WlsMatrix H = A.transpose() * gains_.wrench_weight.asDiagonal() * A +
-                        gains_.alpha * WlsMatrix::Identity(3 * n, 3 * n);
+                        gains_.alpha * WlsMatrix::Identity(size, size);
     const WlsVector b = A.transpose() * gains_.wrench_weight.asDiagonal() * wrench;
     f = Eigen::LDLT<WlsMatrix>(H).solve(b);
+    // Normal (z) component of foot k's force in the split.
+    const auto normal = [&f](int k) { return f(Eigen::Index{3} * k + 2); };
     int worst = -1;
     for (int k = 0; k < n; ++k) {
-      if (f(3 * k + 2) < 0.0 && (worst < 0 || f(3 * k + 2) < f(3 * worst + 2))) worst = k;
+      if (normal(k) < 0.0 && (worst < 0 || normal(k) < normal(worst))) worst = k;
     }
     if (worst < 0) break;
     std::copy(legs.begin() + worst + 1, legs.begin() + n, legs.begin() + worst);
     --n;
   }
   for (int k = 0; k < n; ++k) {
-    Eigen::Vector3d fk = f.segment<3>(3 * k);
+    Eigen::Vector3d fk = f.segment<3>(Eigen::Index{3} * k);
     fk.z() = std::min(fk.z(), gains_.f_max);
     const double ft = fk.head<2>().norm();
     const double ft_max = command_.mu_assumed * fk.z();

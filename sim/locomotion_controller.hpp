@@ -22,7 +22,11 @@
 // clamped: f_n <= f_max and |f_t| <= mu_assumed f_n (the friction cone the controller believes in:
 // 0.6, the nominal ground, for the naive controller; 0.08 for the friction-aware one), and F's
 // horizontal part is limited to mu_assumed F_z before the split, so that the normal forces do not
-// balance tangential forces the clamp would remove.
+// balance tangential forces the clamp would remove. Limitation: "normal" and "tangential" here are
+// about the world z axis, not the ground's normal. On level ground they coincide; on a ramp of
+// angle theta the cone the controller enforces is tilted by theta from the true one, so a force
+// it keeps inside mu_assumed can lie outside the true cone (on the uphill side) by about theta:
+// the 0.16 rad slope scenario stays well inside mu 0.6, a steep ramp with low friction would not.
 // Joint torques tau_i = J_i^T (-f_i - kd_st (v_rel - v_rel*)_xy) + h_i, J_i = R B_J_i(q_i) the
 // world-frame foot Jacobian of the leg's joints, h_i the leg joints' bias forces (gravity and
 // Coriolis), supplied by the caller. The damping term acts on the foot's horizontal velocity
@@ -99,8 +103,9 @@ class LocomotionController {
                        const ControllerGains& gains = {});
 
   // Joint torques (index 3 * leg + joint) at time t. leg_bias: gravity + Coriolis of the leg
-  // joints. Calls must come with non-decreasing t (the integral terms advance by the difference;
-  // they start at t = 0, so a robot may settle at negative times first).
+  // joints at the state s. Calls must come with non-decreasing t (the integral terms advance by
+  // the difference, counted from t = 0 only: a robot may settle at negative times first and start
+  // at t = 0 with zero integrals).
   io::JointVector torques(double t, const ControllerState& s, const io::JointVector& leg_bias);
 
   // The stance flags and ground forces (world, on each foot) of the last call.

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "model/floating_base_dynamics.hpp"
 #include "model/mjcf.hpp"
 #include "model/mujoco.hpp"
 #include "model/quadruped_inertia.hpp"
@@ -22,6 +23,14 @@ constexpr double kTerrainExtent = 100.0;      // the tiled ground spans +-this i
 constexpr double kMaxSlopeAngle = 0.35;       // steepest ramp accepted [rad] (about 20 degrees)
 constexpr double kSettleTime = 0.5;           // simulated before the log starts [s]
 constexpr double kFallTilt = 1.0;             // |roll| or |pitch| beyond this is a fall [rad]
+// No step, ramp or patch edge this close to the starting feet (centres) [m]: the settle and the
+// first steps stay on the level ground the robot is placed on (the step-down and slope scenarios'
+// edges are 0.41 m ahead of the front feet).
+constexpr double kStartClearance = 0.3;
+constexpr double kMinPhysicsRate = 500.0, kMaxPhysicsRate = 10000.0;  // accepted range [Hz]
+constexpr double kMaxSpeed = 1.5;        // largest commanded |velocity| [m/s]
+constexpr double kMaxYawRate = 2.0;      // largest commanded |yaw_rate| [rad/s]
+constexpr double kMaxSwingHeight = 0.2;  // highest foot lift [m]
 
 // Independent generator for one purpose (stream) from the user's seed (as sim/simulator.cpp).
 std::mt19937_64 stream(unsigned seed, unsigned id) {
@@ -41,14 +50,66 @@ void checkFriction(const std::string& option, double mu) {
   if (!(std::isfinite(mu) && mu > 0.0 && mu <= 2.0)) bad(option, mu, "is outside (0, 2]");
 }
 
-void checkOptions(const PhysicsOptions& o) {
+// Horizontal distance from the point x to the boundary of the patch (inside or out) [m].
+double distanceToEdge(const FrictionPatch& p, const Eigen::Vector2d& x) {
+  const Eigen::Array2d below = p.min - x, above = x - p.max;
+  const Eigen::Array2d outside = below.max(above).max(0.0);
+  if ((outside > 0.0).any()) return outside.matrix().norm();
+  return (-below).min(-above).minCoeff();  // inside: to the nearest side
+}
+
+// The robot starts with its feet on level ground at z = 0 (IK from the scenario's height): no step,
+// ramp or patch edge may lie under them or within kStartClearance of them.
+void checkStart(const Terrain& terrain, const model::QuadrupedGeometry& g) {
+  double front = -kTerrainExtent;  // the foremost starting foot's x [m]
+  for (int leg = 0; leg < model::kNumLegs; ++leg) front = std::max(front, g.hip_offset[leg].x());
+  const std::string rule =
+      "must lie more than 0.3 m ahead of the starting feet (x <= " + std::to_string(front) +
+      " m), which stand on level ground at z = 0";
+  if (terrain.step_height != 0.0 && !(terrain.step_x > front + kStartClearance)) {
+    bad("terrain.step_x", terrain.step_x, rule);
+  }
+  if (terrain.slope_angle != 0.0 && !(terrain.slope_start > front + kStartClearance)) {
+    bad("terrain.slope_start", terrain.slope_start, rule);
+  }
+  for (const FrictionPatch& p : terrain.patches) {
+    for (int leg = 0; leg < model::kNumLegs; ++leg) {
+      const Eigen::Vector2d foot(
+          g.hip_offset[leg].x(),
+          g.hip_offset[leg].y() + model::lateralSign(leg) * g.abduction_offset);
+      if (distanceToEdge(p, foot) < kStartClearance) {
+        bad("patch min", p.min.transpose(),
+            "(and max): the patch edge passes within 0.3 m of the starting " +
+                std::string(model::legName(leg)) + " foot");
+      }
+    }
+  }
+}
+
+void checkGait(const Gait& gait) {
+  if (!(std::isfinite(gait.period) && gait.period > 0.0)) {
+    bad("gait.period", gait.period, "must be > 0 s");
+  }
+  if (!(gait.duty > 0.0 && gait.duty <= 1.0)) bad("gait.duty", gait.duty, "is outside (0, 1]");
+  for (double offset : gait.offset) {
+    if (!std::isfinite(offset)) bad("gait.offset", offset, "must be finite");
+  }
+}
+
+void checkOptions(const PhysicsOptions& o, const model::QuadrupedGeometry& geometry) {
   const PhysicsScenario& s = o.scenario;
   if (!(std::isfinite(o.duration) && o.duration > 0.0 && o.duration <= 3600.0)) {
     bad("duration", o.duration, "is outside (0, 3600] s");
   }
   if (!(std::isfinite(o.rate) && o.rate > 0.0)) bad("rate", o.rate, "must be > 0 Hz");
-  if (!(std::isfinite(o.physics_rate) && o.physics_rate > 0.0)) {
-    bad("physics_rate", o.physics_rate, "must be > 0 Hz");
+  if (!(o.physics_rate >= kMinPhysicsRate && o.physics_rate <= kMaxPhysicsRate)) {
+    bad("physics_rate", o.physics_rate, "is outside [500, 10000] Hz");
+  }
+  if (std::lround(o.duration * o.rate) < 2) {
+    std::ostringstream os;
+    os.precision(17);
+    os << "s at rate = " << o.rate << " Hz gives fewer than 2 log rows";
+    bad("duration", o.duration, os.str());
   }
   const double ratio = o.physics_rate / o.rate;
   if (ratio < 1.0 - 1e-9 || std::abs(ratio - std::round(ratio)) > 1e-9) {
@@ -101,15 +162,29 @@ void checkOptions(const PhysicsOptions& o) {
     if (!nonNegative(p.start) || !nonNegative(p.duration)) {
       bad("push time", p.start, "(start and duration) must be finite and >= 0");
     }
+    if (p.start >= o.duration) {
+      std::ostringstream os;
+      os.precision(17);
+      os << "s is not before the end of the run (duration = " << o.duration << " s)";
+      bad("push start", p.start, os.str());
+    }
   }
   if (!(s.height > 0.15 && s.height < 0.40))
     bad("scenario.height", s.height, "is outside (0.15, 0.40) m");
   if (!(nonNegative(s.stand_time) && nonNegative(s.ramp_duration))) {
     bad("scenario.stand_time", s.stand_time, "(and ramp_duration) must be >= 0");
   }
-  if (!s.velocity.allFinite() || !std::isfinite(s.yaw_rate)) {
-    bad("scenario.velocity", s.velocity.transpose(), "(and yaw_rate) must be finite");
+  if (!(s.velocity.norm() <= kMaxSpeed)) {
+    bad("scenario.velocity", s.velocity.transpose(), "has a magnitude outside [0, 1.5] m/s");
   }
+  if (!(std::abs(s.yaw_rate) <= kMaxYawRate)) {
+    bad("scenario.yaw_rate", s.yaw_rate, "is outside [-2, 2] rad/s");
+  }
+  if (!(s.swing_height > 0.0 && s.swing_height <= kMaxSwingHeight)) {
+    bad("scenario.swing_height", s.swing_height, "is outside (0, 0.2] m");
+  }
+  checkGait(s.gait);
+  checkStart(s.terrain, geometry);
 }
 
 // MJCF of the terrain (inside <worldbody>). Flat ground of one friction is the plane alone.
@@ -182,6 +257,9 @@ World buildWorld(const PhysicsOptions& o, const model::QuadrupedGeometry& geomet
   model::MjcfOptions mo;
   mo.timestep = 1.0 / o.physics_rate;
   mo.ground_friction = terrain.friction;
+  // MuJoCo takes the larger friction of two touching geoms: with 0 on every robot geom (they never
+  // touch each other) the ground's or the patch's friction is the one that acts, however low.
+  mo.foot_friction = 0.0;
   mo.extra_worldbody = terrainXml(terrain);
   mo.base_position = {0.0, 0.0, o.scenario.height};
   World w;
@@ -269,6 +347,37 @@ std::array<io::FootTruth, model::kNumLegs> contactTruth(const World& w, const do
   return truth;
 }
 
+// The leg joints' bias forces h (gravity and Coriolis) at the state the controller believes: from
+// the kit's own RNEA (model/floating_base_dynamics.hpp), not MuJoCo's, so that the controller sees
+// no truth and a wrong estimate reaches its gravity compensation.
+io::JointVector legBias(const model::QuadrupedDynamics& dynamics, const ControllerState& s) {
+  model::FloatingBaseState x;
+  x.p = s.p;
+  x.R = s.R;
+  x.v = s.v;
+  x.omega = s.omega;
+  x.q = s.q;
+  x.dq = s.dq;
+  return dynamics.biasForces(x).tail<io::kNumJoints>();
+}
+
+// MuJoCo 2.2.2 answers a non-finite qpos, qvel, qacc or ctrl with a warning and (except for ctrl,
+// which it zeroes) by resetting mjData: either way the run is no longer the one asked for. Why, for
+// the physics step that started at t, or empty.
+std::string divergence(const mjData& d, double t) {
+  constexpr std::array<std::pair<int, const char*>, 4> kChecks{{{mjWARN_BADQPOS, "qpos"},
+                                                                {mjWARN_BADQVEL, "qvel"},
+                                                                {mjWARN_BADQACC, "qacc"},
+                                                                {mjWARN_BADCTRL, "ctrl"}}};
+  for (const auto& [warning, what] : kChecks) {
+    if (d.warning[warning].number == 0) continue;
+    std::ostringstream os;
+    os << "MuJoCo reset the simulation: bad " << what << " at t = " << t << " s";
+    return os.str();
+  }
+  return {};
+}
+
 // Why the robot counts as fallen at this state, or empty.
 std::string fallReason(const World& w, const PhysicsScenario& s, const ControllerState& x) {
   const mjModel& m = *w.m;
@@ -317,11 +426,12 @@ PhysicsOptions& PhysicsOptions::noiseless() {
 }
 
 PhysicsResult simulatePhysics(const PhysicsOptions& o) {
-  checkOptions(o);
   const PhysicsScenario& scenario = o.scenario;
   const model::QuadrupedGeometry geometry = model::QuadrupedGeometry::go2();
+  checkOptions(o, geometry);
   const model::QuadrupedInertia inertia = model::QuadrupedInertia::go2();
   const model::QuadrupedKinematics kinematics(geometry);
+  const model::QuadrupedDynamics dynamics(geometry, inertia);
   World w = buildWorld(o, geometry, inertia);
   mjModel& m = *w.m;
   mjData& d = *w.d;
@@ -333,7 +443,7 @@ PhysicsResult simulatePhysics(const PhysicsOptions& o) {
         geometry.hip_offset[leg].y() + model::lateralSign(leg) * geometry.abduction_offset,
         geometry.foot_radius - scenario.height);
     const Eigen::Vector3d q = kinematics.inverseKinematics(leg, foot);
-    for (int j = 0; j < 3; ++j) d.qpos[7 + io::kJointsPerLeg * leg + j] = q(j);
+    Eigen::Map<Eigen::Vector3d>(d.qpos + 7 + std::size_t{io::kJointsPerLeg} * leg) = q;
   }
   mj_forward(&m, &d);
 
@@ -350,15 +460,21 @@ PhysicsResult simulatePhysics(const PhysicsOptions& o) {
   if (scenario.friction_aware) gains.kd_stance = kAwareStanceDamping;
   LocomotionController controller(kinematics, inertia.totalMass(), command, trueState(d), gains);
 
+  PhysicsResult out;
   // Settle: the feet start exactly touching the ground, carrying nothing; let the contacts take
   // the weight before the log starts at t = 0 (controller only, nothing logged).
   d.time = -kSettleTime;
   while (d.time < -0.5 / o.physics_rate) {
+    const double t = d.time;
     mj_step1(&m, &d);
-    const io::JointVector tau = controller.torques(
-        d.time, trueState(d), Eigen::Map<const io::JointVector>(d.qfrc_bias + 6));
-    for (int i = 0; i < io::kNumJoints; ++i) d.ctrl[i] = tau(i);
+    const ControllerState x = trueState(d);
+    Eigen::Map<io::JointVector>(d.ctrl) = controller.torques(t, x, legBias(dynamics, x));
     mj_step2(&m, &d);
+    const std::string reason = divergence(d, t);
+    if (!reason.empty()) {
+      out.status = {true, t, reason, true};
+      return out;
+    }
   }
   d.time = 0.0;
 
@@ -368,7 +484,6 @@ PhysicsResult simulatePhysics(const PhysicsOptions& o) {
   std::mt19937_64 force_rng = stream(o.seed, 5);
   std::normal_distribution<double> unit(0.0, 1.0);
 
-  PhysicsResult out;
   io::Log& log = out.log;
   log.layout.joints = true;
   log.layout.torque = true;
@@ -388,7 +503,8 @@ PhysicsResult simulatePhysics(const PhysicsOptions& o) {
   const long n = std::lround(o.duration * o.rate);
   log.rows.reserve(n);
   out.bias.reserve(n);
-  std::vector<mjtNum> jac(3 * m.nv);
+  std::vector<mjtNum> jac(std::size_t{3} * m.nv);
+  mjtNum* const push = d.xfrc_applied + std::size_t{6} * w.base_body;  // force, torque on the trunk
   model::ImuBias bias = o.initial_bias;
   bool estimated = false;
   BaseEstimate estimate;
@@ -406,6 +522,7 @@ PhysicsResult simulatePhysics(const PhysicsOptions& o) {
     std::array<io::FootTruth, model::kNumLegs> truth{};
     Eigen::Vector3d omega_sum = Eigen::Vector3d::Zero();
     for (int j = 0; j < substeps; ++j) {
+      const double t = d.time;
       mj_step1(&m, &d);
       const ControllerState x = trueState(d);
       ControllerState view = x;
@@ -417,16 +534,17 @@ PhysicsResult simulatePhysics(const PhysicsOptions& o) {
         view.q = sensed.q;
         view.dq = sensed.dq;
       }
-      const io::JointVector tau =
-          controller.torques(d.time, view, Eigen::Map<const io::JointVector>(d.qfrc_bias + 6));
-      for (int i = 0; i < io::kNumJoints; ++i) d.ctrl[i] = tau(i);
-      mju_zero(d.xfrc_applied + 6 * w.base_body, 6);
+      Eigen::Map<io::JointVector>(d.ctrl) = controller.torques(t, view, legBias(dynamics, view));
+      mju_zero(push, 6);
       for (const Push& p : scenario.pushes) {
-        if (d.time >= p.start && d.time < p.start + p.duration) {
-          for (int i = 0; i < 3; ++i) d.xfrc_applied[6 * w.base_body + i] += p.force(i);
-        }
+        if (t >= p.start && t < p.start + p.duration) Eigen::Map<Eigen::Vector3d>(push) += p.force;
       }
       mj_step2(&m, &d);
+      const std::string diverged = divergence(d, t);
+      if (!diverged.empty()) {
+        out.status = {true, t, diverged, true};
+        break;
+      }
       if (j == 0) {
         now = x;
         applied = Eigen::Map<const io::JointVector>(d.actuator_force);
@@ -438,7 +556,7 @@ PhysicsResult simulatePhysics(const PhysicsOptions& o) {
         truth = contactTruth(w, qvel.data(), jac.data());
         const std::string reason = fallReason(w, scenario, x);
         if (!reason.empty()) {
-          out.status = {true, row.t, reason};
+          out.status = {true, row.t, reason, false};
           break;
         }
       }

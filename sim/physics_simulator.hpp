@@ -7,14 +7,18 @@
 // ends cut it into a grid; each tile has the friction of the patch over it, or the ground's, and
 // its top face is the ground's surface there: level, or pitched to the ramp's grade), so a foot
 // always stands on exactly one surface; the plane is then switched off (200 m x 200 m of tiles).
-// MuJoCo takes the larger friction of two touching geoms: the robot's are low. The robot starts
-// standing still at the scenario's height, feet under the hips (IK), and settles for 0.5 s
-// (controller running, nothing logged) so that the feet carry the weight at t = 0.
+// MuJoCo takes the larger friction of two touching geoms: the robot's geoms have friction 0 (they
+// never touch each other), so the ground's or the patch's friction is the one that acts. The robot
+// starts standing still at the scenario's height, feet under the hips (IK) on level ground at
+// z = 0, and settles for 0.5 s (controller running, nothing logged) so that the feet carry the
+// weight at t = 0.
 //
 // Stepping: physics at physics_rate (Euler, Newton, elliptic cone, impratio 10). Every physics step
-// runs mj_step1, the controller (on the state of that instant and the leg joints' qfrc_bias), the
-// pushes (xfrc_applied on the trunk), then mj_step2. A log row k at t_k = k / rate describes the
-// state at t_k and the motion over [t_k, t_k + 1/rate) (rate divides physics_rate):
+// runs mj_step1, the controller (on the state of that instant, or the closed loop's estimate, and
+// the leg joints' bias forces h of that same state from model/floating_base_dynamics.hpp: the
+// controller never reads MuJoCo), the pushes (xfrc_applied on the trunk), then mj_step2. A log row
+// k at t_k = k / rate describes the state at t_k and the motion over [t_k, t_k + 1/rate) (rate
+// divides physics_rate):
 //   IMU       at the "imu" site (the base origin): w = the mean body rate the integrator applied
 //             over the interval, a = its mean world acceleration (v_{k+1} - v_k) rate, so that
 //             integrating the row from t_k reproduces the true velocity; a_m = R_k^T (a - g),
@@ -34,7 +38,10 @@
 //
 // Falls: the run stops at the first row where the trunk touches the ground, |roll| or |pitch|
 // exceeds 1 rad, or the base is lower than half the scenario's height above the ground; the log
-// holds the rows before it and status says when and why.
+// holds the rows before it and status says when and why. Divergence: MuJoCo 2.2.2 answers a
+// non-finite qpos, qvel or qacc by resetting the simulation with only a warning (and a non-finite
+// ctrl by zeroing it); any of these warnings ends the run the same way, status.fell and
+// status.diverged set, reason "MuJoCo reset the simulation: bad qacc at t = ... s".
 #pragma once
 
 #include <string>
@@ -43,24 +50,10 @@
 #include "io/log.hpp"
 #include "model/imu_model.hpp"
 #include "model/imu_noise.hpp"
+#include "sim/base_state_source.hpp"
 #include "sim/physics_scenario.hpp"
 
 namespace legkit::sim {
-
-// What a closed-loop controller uses instead of the truth (world frame).
-struct BaseEstimate {
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  Eigen::Vector3d v = Eigen::Vector3d::Zero();
-};
-
-// A source of base estimates fed with every log row as it is made (e.g. an estimator).
-class BaseStateSource {
- public:
-  virtual ~BaseStateSource() = default;
-  // False: no estimate yet (the controller keeps using the truth).
-  virtual bool update(const io::LogRow& row, BaseEstimate& out) = 0;
-};
 
 struct ForceSensorModel {
   double sigma = 2.0;         // white noise [N]
@@ -74,7 +67,7 @@ struct PhysicsOptions {
   PhysicsScenario scenario = physicsScenarioByName("physics-trot");
   double duration = 60.0;        // [s], in (0, 3600]
   double rate = 1000.0;          // log row (IMU) rate [Hz]
-  double physics_rate = 2000.0;  // physics step rate [Hz], a multiple of rate
+  double physics_rate = 2000.0;  // physics step rate [Hz], in [500, 10000], a multiple of rate
   unsigned seed = 1;
 
   model::ImuNoise imu_noise = model::ImuNoise::go2();
@@ -96,9 +89,10 @@ struct PhysicsOptions {
 };
 
 struct PhysicsStatus {
-  bool fell = false;
+  bool fell = false;   // the run failed (a fall, or a divergence): the log stops before time
   double time = 0.0;   // of the fall [s]
-  std::string reason;  // "trunk touched the ground", "roll ...", ...
+  std::string reason;  // "trunk touched the ground", "roll ...", "MuJoCo reset the simulation ..."
+  bool diverged = false;  // the failure was MuJoCo's reset on bad numbers, not a fall
 };
 
 struct PhysicsResult {
@@ -115,10 +109,14 @@ struct PhysicsResult {
 // Runs the scenario. Throws std::invalid_argument naming the option and its value for a friction
 // (ground or patch) outside (0, 2], a patch with min >= max or beyond +-100 m, a step higher than
 // 0.2 m or beyond +-100 m, a ramp steeper than 0.35 rad, not longer than 0 m or beyond +-100 m, a
-// push force non-finite or above 500 N, a push time non-finite or negative, a height outside
-// (0.15, 0.40) m, a duration outside (0, 3600] s, a non-positive rate or a physics_rate that is not
+// step, ramp start or patch edge within 0.3 m of the starting feet (or a step or ramp behind
+// them), a push force non-finite or above 500 N, a push time non-finite or negative or a push
+// starting at or after the end of the run, a height outside (0.15, 0.40) m, a swing_height outside
+// (0, 0.2] m, a |velocity| above 1.5 m/s, a |yaw_rate| above 2 rad/s, a gait period <= 0, duty
+// outside (0, 1] or a non-finite offset, a duration outside (0, 3600] s or giving fewer than 2 rows
+// (lround(duration * rate) < 2), a non-positive rate, a physics_rate outside [500, 10000] Hz or not
 // a multiple of rate, or a negative noise figure (an unknown scenario name is
-// physicsScenarioByName's error). A fall is not an exception: see PhysicsStatus.
+// physicsScenarioByName's error). A fall or a divergence is not an exception: see PhysicsStatus.
 PhysicsResult simulatePhysics(const PhysicsOptions& options);
 
 }  // namespace legkit::sim
