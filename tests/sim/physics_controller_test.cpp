@@ -74,3 +74,20 @@ TEST_CASE("A roll far beyond recovery never makes a foot pull", "[sim][physics]"
   CHECK(loaded >= 2);
   CHECK(loaded < 4);  // the feet on one side are dropped, not asked to pull
 }
+
+TEST_CASE("The integral terms start at t = 0, whatever a settle before it did", "[sim][physics]") {
+  const model::QuadrupedKinematics kin;
+  sim::ControllerState s = standing(kin, 0.30);
+  sim::LocomotionCommand trot;
+  trot.gait = sim::Gait::trot(2.0);
+  trot.gait.start = 1.0;  // all four feet down until then, the speed loop active
+  s.v = {0.3, 0.1, 0.0};  // off the (zero) command: the integrals would grow
+  sim::LocomotionController settled(kin, kMass, trot, s);
+  for (int k = 0; k < 500; ++k) settled.torques(-0.5 + 1e-3 * k, s, io::JointVector::Zero());
+  sim::LocomotionController fresh(kin, kMass, trot, s);
+  for (double t : {0.0, 0.01}) {
+    const io::JointVector a = settled.torques(t, s, io::JointVector::Zero());
+    const io::JointVector b = fresh.torques(t, s, io::JointVector::Zero());
+    CHECK((a - b).norm() < 1e-12);
+  }
+}

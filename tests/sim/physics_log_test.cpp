@@ -1,7 +1,11 @@
 // The physics log is an ordinary log: it passes the strict reader's round trip, it is
-// deterministic from its seed, its IMU rows mean what sim/simulator.hpp's mean (integrating a row
-// from t_k gives the truth at t_k+1), its contact and force columns are the physics' own, a fall
-// is reported with its time and reason, and bad options are refused by name.
+// deterministic from its seed, its IMU rows hold over [t_k, t_k+1) as the estimators assume
+// (integrating row k from the truth at t_k gives the truth at t_k+1, whatever the number of physics
+// steps per row: the row is the mean over the interval, where sim/simulator.hpp samples the
+// analytic motion at t_k; the two conventions agree to O(dt)), its contact and force columns are
+// the physics' own and obey Coulomb's law with the ground's friction, a fall is reported with its
+// time and reason, and bad options are refused by name.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
@@ -85,9 +89,14 @@ TEST_CASE("Same options, identical log; another seed, other noise on the same mo
 
 TEST_CASE("Noise-free rows: integrating row k's IMU from the truth at t_k gives the truth at t_k+1",
           "[sim][physics]") {
-  sim::PhysicsOptions o = shortRun("physics-trot", 3.0);
+  // 4, 2 and 1 physics steps per row (physics at 2 kHz).
+  const double rate = GENERATE(500.0, 1000.0, 2000.0);
+  INFO("rate " << rate << " Hz");
+  sim::PhysicsOptions o = shortRun("physics-trot", 2.0);
+  o.rate = rate;
   o.noiseless();
   const sim::PhysicsResult run = sim::simulatePhysics(o);
+  REQUIRE(run.log.rows.size() == static_cast<std::size_t>(2.0 * rate));
   const double dt = 1.0 / o.rate;
   double worst_v = 0.0, worst_R = 0.0;
   for (std::size_t k = 0; k + 1 < run.log.rows.size(); ++k) {
@@ -125,6 +134,76 @@ TEST_CASE("Contact flags are the true contacts; a noise-free force sensor reads 
     }
   }
   CHECK(changes > 8);  // the trot lifts and plants feet
+}
+
+namespace {
+
+// Coulomb's law at the true contact forces: |f_t| <= mu f_n always, |f_t| = mu f_n while sliding.
+// Over the contact rows of a run on ground of friction mu: the largest |f_t| - mu f_n [N] and the
+// extreme ratios |f_t| / (mu f_n) where the foot slides faster than 0.05 m/s; how many such rows.
+struct Coulomb {
+  double excess = -1.0, min_ratio = 2.0, max_ratio = 0.0;
+  int sliding = 0;
+};
+
+Coulomb coulomb(const io::Log& log, double mu) {
+  Coulomb c;
+  for (const io::LogRow& row : log.rows) {
+    for (const io::FootTruth& f : row.gt_feet) {
+      if (!f.contact) continue;
+      c.excess = std::max(c.excess, f.tangential_force - mu * f.normal_force);
+      if (f.slip_speed > 0.05) {
+        const double ratio = f.tangential_force / (mu * f.normal_force);
+        c.min_ratio = std::min(c.min_ratio, ratio);
+        c.max_ratio = std::max(c.max_ratio, ratio);
+        ++c.sliding;
+      }
+    }
+  }
+  return c;
+}
+
+// physics-ice-push on ground of friction mu, pushed at 1 s for 0.2 s, 2 s long.
+sim::PhysicsResult icePush(double mu) {
+  sim::PhysicsOptions o = shortRun("physics-ice-push", 2.0);
+  o.scenario.terrain.friction = mu;
+  o.scenario.pushes[0].start = 1.0;
+  return sim::simulatePhysics(o);
+}
+
+}  // namespace
+
+TEST_CASE("True contact forces obey Coulomb's law: inside the cone, on it while sliding",
+          "[sim][physics]") {
+  const sim::PhysicsResult run = icePush(0.1);  // the scenario's ice
+  REQUIRE_FALSE(run.status.fell);
+  const Coulomb c = coulomb(run.log, 0.1);
+  INFO("excess " << c.excess << " N, sliding ratio " << c.min_ratio << ".." << c.max_ratio);
+  CHECK(c.excess <= 1e-6);
+  CHECK(c.sliding > 100);  // the push makes every foot slide
+  CHECK(c.min_ratio > 0.98);
+  CHECK(c.max_ratio < 1.02);
+}
+
+TEST_CASE("The ground's friction is the one that acts, even below the robot geoms' old 0.05",
+          "[sim][physics]") {
+  // MuJoCo takes the larger of the two geoms' frictions: the robot's are 0, so mu 0.02 acts.
+  const sim::PhysicsResult slippery = icePush(0.02);
+  const sim::PhysicsResult less = icePush(0.05);
+  REQUIRE_FALSE(slippery.status.fell);
+  REQUIRE_FALSE(less.status.fell);
+  const Coulomb c = coulomb(slippery.log, 0.02);
+  INFO("excess " << c.excess << " N, sliding ratio " << c.min_ratio << ".." << c.max_ratio);
+  CHECK(c.excess <= 1e-6);
+  CHECK(c.sliding > 100);
+  CHECK(c.min_ratio > 0.98);
+  CHECK(c.max_ratio < 1.02);
+  // The same push carries the robot further on the more slippery ground (measured 0.50 m against
+  // 0.35 m at 29b2d37; with the robot geoms' old friction 0.05 both runs were the same).
+  const double drift_slippery = slippery.log.rows.back().gt_p.y();
+  const double drift_less = less.log.rows.back().gt_p.y();
+  INFO("sideways drift " << drift_slippery << " m (mu 0.02), " << drift_less << " m (mu 0.05)");
+  CHECK(drift_slippery > drift_less + 0.07);
 }
 
 TEST_CASE("A fall ends the run: the log stops before it, the status says when and why",
@@ -193,4 +272,79 @@ TEST_CASE("Bad options are refused, naming the option and the value", "[sim][phy
   o.rate = 1000.0;
   o.physics_rate = 500.0;
   refused(o, "physics_rate = 500");
+  o.rate = 400.0;
+  o.physics_rate = 400.0;
+  refused(o, "physics_rate = 400");
+  o.rate = 1000.0;
+  o.physics_rate = 20000.0;
+  refused(o, "physics_rate = 20000");
+  o.physics_rate = 2000.0;
+  o.duration = 0.0004;  // lround(0.4) = 0 rows
+  refused(o, "duration = 0.0004");
+  o.duration = 0.0014;  // 1 row
+  refused(o, "duration = 0.0014");
+  o.duration = 1.0;
+  o.rate = 1.0;  // 1 row at 1 Hz
+  refused(o, "duration = 1");
+}
+
+TEST_CASE("Terrain under or near the starting feet is refused, naming the field",
+          "[sim][physics]") {
+  const auto refused = [](const sim::PhysicsOptions& o, const std::string& what) {
+    CHECK_THROWS_WITH(sim::simulatePhysics(o), Catch::Contains(what));
+  };
+  sim::PhysicsOptions o = shortRun("physics-step-down", 1.0);
+  o.scenario.terrain.step_x = 0.0;  // a step under the robot: its feet would be inside a tile
+  refused(o, "terrain.step_x = 0");
+  o.scenario.terrain.step_x = 0.45;  // 0.26 m ahead of the front feet
+  refused(o, "terrain.step_x = 0.45");
+  o.scenario.terrain.step_x = -2.0;  // behind: the robot would stand on the lower level
+  refused(o, "terrain.step_x = -2");
+  o = shortRun("physics-slope", 1.0);
+  o.scenario.terrain.slope_start = -1.0;  // the robot would start on the ramp
+  refused(o, "terrain.slope_start = -1");
+  o = shortRun("physics-ice", 1.0);
+  o.scenario.terrain.patches[0].min.x() = 0.3;  // 0.11 m ahead of the front feet
+  refused(o, "patch min");                      // the FL foot at x = 0.19 m
+  refused(o, "starting FL foot");
+  o.scenario.terrain.patches[0] = {{-0.4, -1.0}, {0.4, 1.0}, 0.1};  // edge 0.21 m from the feet
+  refused(o, "starting FL foot");
+  // A patch the robot starts well inside is fine.
+  o.scenario.terrain.patches[0] = {{-2.0, -2.0}, {2.0, 2.0}, 0.3};
+  o.duration = 0.002;
+  CHECK(sim::simulatePhysics(o).log.rows.size() == 2);
+}
+
+TEST_CASE("Pushes after the run, a bad gait or command are refused, naming the field",
+          "[sim][physics]") {
+  const auto refused = [](const sim::PhysicsOptions& o, const std::string& what) {
+    CHECK_THROWS_WITH(sim::simulatePhysics(o), Catch::Contains(what));
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  sim::PhysicsOptions o = shortRun("physics-push", 3.0);  // the push starts at 3 s
+  refused(o, "push start = 3");
+  o = shortRun("physics-trot", 1.0);
+  o.scenario.gait.period = 0.0;
+  refused(o, "gait.period = 0");
+  o = shortRun("physics-trot", 1.0);
+  o.scenario.gait.duty = 0.0;
+  refused(o, "gait.duty = 0");
+  o.scenario.gait.duty = 1.5;
+  refused(o, "gait.duty = 1.5");
+  o = shortRun("physics-trot", 1.0);
+  o.scenario.gait.offset[2] = nan;
+  refused(o, "gait.offset = nan");
+  o = shortRun("physics-trot", 1.0);
+  o.scenario.swing_height = 0.0;
+  refused(o, "scenario.swing_height = 0");
+  o.scenario.swing_height = 0.5;
+  refused(o, "scenario.swing_height = 0.5");
+  o = shortRun("physics-trot", 1.0);
+  o.scenario.velocity = {1.2, 1.2};
+  refused(o, "scenario.velocity = 1.2 1.2");
+  o.scenario.velocity = {nan, 0.0};
+  refused(o, "scenario.velocity = nan");
+  o = shortRun("physics-turn", 1.0);
+  o.scenario.yaw_rate = -2.5;
+  refused(o, "scenario.yaw_rate = -2.5");
 }

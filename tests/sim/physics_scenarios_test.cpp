@@ -21,6 +21,22 @@ sim::PhysicsResult run(const std::string& name, double duration) {
   return sim::simulatePhysics(o);
 }
 
+// Mean slip speed of one foot over its contact rows while its nominal point (under the hip, ahead
+// of the base) is inside [x_min, x_max].
+double meanSlipOver(const io::Log& log, int leg, double x_min, double x_max) {
+  const double ahead = model::QuadrupedGeometry::go2().hip_offset[leg].x();
+  double sum = 0.0;
+  int rows = 0;
+  for (const io::LogRow& row : log.rows) {
+    const double x = row.gt_p.x() + ahead;
+    if (row.gt_feet[leg].contact && x >= x_min && x <= x_max) {
+      sum += row.gt_feet[leg].slip_speed;
+      ++rows;
+    }
+  }
+  return rows > 0 ? sum / rows : 0.0;
+}
+
 // Largest slip speed of one foot over the rows with t in [from, to).
 double maxSlip(const io::Log& log, int leg, double from, double to) {
   double s = 0.0;
@@ -138,10 +154,15 @@ TEST_CASE("Ice patch: the naive controller's FR foot slides, the friction-aware 
   const sim::PhysicsResult naive = run("physics-ice", 6.0);
   const sim::PhysicsResult aware = run("physics-ice-aware", 6.0);
   const double naive_slip = maxSlip(naive.log, model::FR, 3.0, 6.0);
-  const double aware_slip = maxSlip(aware.log, model::FR, 3.0, 6.0);
-  INFO("FR max slip on the ice: naive " << naive_slip << " m/s, aware " << aware_slip << " m/s");
+  const double naive_mean = meanSlipOver(naive.log, model::FR, 1.0, 4.0);
+  const double aware_mean = meanSlipOver(aware.log, model::FR, 1.0, 4.0);
+  INFO("FR on the ice: naive max " << naive_slip << " m/s, mean " << naive_mean
+                                   << " m/s; aware mean " << aware_mean << " m/s");
   CHECK(naive_slip > 1.0);
-  CHECK(aware_slip < 0.8);
+  // Mean FR slip over its contact rows on the patch: measured 0.66 m/s naive, 0.046 m/s aware
+  // (at 29b2d37); bounds with a margin of about 1.5x either way.
+  CHECK(naive_mean > 0.4);
+  CHECK(aware_mean < 0.07);
   // Off the ice both walk the same: the FR foot hardly slides before the patch.
   CHECK(maxSlip(naive.log, model::FR, 2.0, 2.9) < 0.8);
   requireUpright(aware, 0.2);
