@@ -345,6 +345,7 @@ TEST_CASE("cli: physics options out of range are usage errors naming the option"
       {{"--scenario", "physics-push", "--push", "1000"}, "--push"},
       {{"--scenario", "physics-push", "--push", "-5"}, "--push"},
       {{"--scenario", "physics-stand", "--duration", "0"}, "--duration"},
+      {{"--scenario", "physics-push", "--duration", "2"}, "--duration"},  // the push is at 3 s
       {{"--scenario", "physics-stand", "--duration", "1e6"}, "--duration"},
       {{"--scenario", "physics-stand", "--closed-loop", "kalman"}, "--closed-loop"},
       {{"--scenario", "physics-stand", "--slip-foot", "FR"}, "--slip-foot"},
@@ -353,6 +354,10 @@ TEST_CASE("cli: physics options out of range are usage errors naming the option"
       {{"--scenario", "trot", "--closed-loop", "eskf"}, "--closed-loop"},
       {{"--scenario", "physics-nowhere"}, "--scenario"},
   };
+  const Result run = runLegkit(dir.path, {"run", "--scenario", "physics-ice-push", "--duration",
+                                          "1", "--no-plots", "--out", "out"});
+  CHECK(run.status == 1);
+  CHECK_THAT(run.output, Catch::Matchers::Contains("--duration: physics-ice-push pushes"));
   for (const auto& [arguments, option] : cases) {
     std::vector<std::string> command = {"sim", "--out", "bad.csv"};
     command.insert(command.end(), arguments.begin(), arguments.end());
@@ -372,7 +377,7 @@ TEST_CASE("cli: a robot that falls is a failed run with the time and the reason"
                                   "--duration", "6", "--out", "fall.csv"});
   CHECK(r.status == 3);
   CHECK_THAT(r.output, Catch::Matchers::Contains("the robot fell at t = "));
-  CHECK_THAT(r.output, Catch::Matchers::Contains("wrote the log up to the fall"));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("wrote the log up to then"));
   const legkit::io::Log log = legkit::io::readLog((dir.path / "fall.csv").string());
   CHECK(log.rows.back().t > 3.0);  // the push starts at 3 s
   CHECK(log.rows.back().t < 6.0);
@@ -402,8 +407,8 @@ TEST_CASE("cli: run on a physics scenario whose robot falls: the table up to the
       runLegkit(dir.path, {"run", "--scenario", "physics-ice", "--no-plots", "--out", "out"});
   INFO(r.output);
   CHECK(r.status == 3);
-  CHECK_THAT(r.output, Catch::Matchers::Contains("FELL: the robot fell at t = "));
-  CHECK_THAT(r.output, Catch::Matchers::Contains("the table covers the log up to the fall"));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("STOPPED: the robot fell at t = "));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("the table covers the log up to then"));
   CHECK_THAT(r.output, Catch::Matchers::Contains("invariant-ekf"));
   const std::string summary = slurp(dir.path / "out" / "summary.json");
   CHECK_THAT(summary, Catch::Matchers::Contains("\"fell\": \"the robot fell at t = "));

@@ -149,11 +149,12 @@ class PhysicsFigures(unittest.TestCase):
             self.assertIn("no column gt_fn_FR", refused.stderr)
 
     def test_the_estimators_table_and_the_closed_loop(self):
+        # 3.5 s: the push scenarios push at t = 3 s.
         done = subprocess.run([sys.executable, os.path.join(PLOTS, "57.0-physics-table.py"),
-                               self.legkit, "--duration", "1.5", "--loop-duration", "1.5"],
+                               self.legkit, "--duration", "3.5", "--loop-duration", "1.5"],
                               capture_output=True, text=True, check=True)
         rows = [line for line in done.stdout.splitlines() if line.startswith("| `physics-")]
-        self.assertEqual(len(rows), 5 * 9)  # five tables, nine physics scenarios
+        self.assertEqual(len(rows), 5 * 10)  # five tables, ten physics scenarios
         self.assertIn("| truth |", done.stdout)
         self.assertIn("| invariant-ekf |", done.stdout)
         self.assertNotIn("nan", done.stdout)

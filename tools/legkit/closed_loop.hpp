@@ -11,7 +11,7 @@
 
 #include "estimation/estimator.hpp"
 #include "estimation/log_frontend.hpp"
-#include "sim/physics_simulator.hpp"
+#include "sim/base_state_source.hpp"
 
 namespace legkit::tools {
 

@@ -266,7 +266,9 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   // ANEES measures the filters and not a mismatched sensor model; for a recorded log, the
   // front end's defaults (chapters/57.3).
   FrontendNoise noise;
-  std::string fall;  // a physics run whose robot fell: when and why (its log ends there)
+  // A physics run whose robot fell (or whose simulation diverged): when and why (its log ends
+  // there).
+  std::string fall;
   if (!log_.empty()) {
     log = io::readLog(log_);
     checkTimeBase(log, max_gap_ > 0 ? std::optional<double>(max_gap_) : std::nullopt);
@@ -276,6 +278,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
     options.scenario = sim::physicsScenarioByName(scenario_);
     options.duration = duration_option_->count() > 0 ? duration_ : options.scenario.duration;
     options.seed = seed_;
+    checkPushesInRun(options);
     sim::PhysicsResult result = sim::simulatePhysics(options);
     if (result.status.fell) {
       fall = describeFall(result.status);
@@ -346,7 +349,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
     out << toJson(rows).dump(2) << '\n';
   } else {
     out << "legkit run: " << source << " (" << log.rows.size() << " samples)\n\n";
-    if (!fall.empty()) out << "FELL: " << fall << "; the table covers the log up to the fall\n\n";
+    if (!fall.empty()) out << "STOPPED: " << fall << "; the table covers the log up to then\n\n";
     printRunTable(out, rows);
     out << "\nANEES: the mean over the run of NEES / its degrees of freedom (9, or 6 for the "
            "linear KF, whose attitude is an input); about 1 for a consistent filter.\n";

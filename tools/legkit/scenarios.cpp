@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "output.hpp"
 #include "sim/scenario.hpp"
 
 namespace legkit::tools {
@@ -38,9 +39,21 @@ FrontendNoise matchedFrontendNoise(const sim::PhysicsOptions& options) {
   return noise;
 }
 
+void checkPushesInRun(const sim::PhysicsOptions& options) {
+  for (const sim::Push& p : options.scenario.pushes) {
+    if (!(p.start < options.duration)) {
+      std::ostringstream os;
+      os << "--duration: " << options.scenario.name << " pushes the robot at t = " << p.start
+         << " s; a run of " << options.duration << " s ends before that";
+      throw UsageError(os.str());
+    }
+  }
+}
+
 std::string describeFall(const sim::PhysicsStatus& status) {
   std::ostringstream os;
-  os << "the robot fell at t = " << status.time << " s (" << status.reason << ")";
+  os << (status.diverged ? "the simulation diverged at t = " : "the robot fell at t = ")
+     << status.time << " s (" << status.reason << ")";
   return os.str();
 }
 

@@ -18,7 +18,10 @@ std::string scenarioHelp();
 // The front end's noise matched to the physics simulator's encoders, as eval::matchedFrontendNoise
 // does for the analytic one (so that ANEES measures the filters, not a mismatched model).
 FrontendNoise matchedFrontendNoise(const sim::PhysicsOptions& options);
-// "the robot fell at t = 3.412 s (trunk tilt 1.2 rad)".
+// A UsageError naming --duration when the run ends before one of the scenario's pushes starts.
+void checkPushesInRun(const sim::PhysicsOptions& options);
+// "the robot fell at t = 3.412 s (reason)", or for MuJoCo's reset on bad numbers "the simulation
+// diverged at t = ... s (reason)".
 std::string describeFall(const sim::PhysicsStatus& status);
 
 }  // namespace legkit::tools

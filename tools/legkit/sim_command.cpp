@@ -183,6 +183,7 @@ int SimCommand::runPhysics(std::ostream& out) const {
           norm > 0.0 ? Eigen::Vector3d(p.force * (push_ / norm)) : Eigen::Vector3d(0.0, push_, 0.0);
     }
   }
+  checkPushesInRun(options);
   checkRange("--rate", rate_, 100.0, options.physics_rate, " Hz (at most the physics rate)");
   options.rate = rate_;
   options.seed = seed_;
@@ -206,9 +207,9 @@ int SimCommand::runPhysics(std::ostream& out) const {
   const std::string loop = closed_loop_.empty() ? "" : ", closed loop on " + closed_loop_;
   if (result.status.fell) {
     std::cerr << "legkit sim: " << scenario_ << loop << ": " << describeFall(result.status) << "; "
-              << (rows > 0 ? "wrote the log up to the fall, " + std::to_string(rows) +
-                                 " rows, to " + out_
-                           : "nothing written")
+              << (rows > 0
+                      ? "wrote the log up to then, " + std::to_string(rows) + " rows, to " + out_
+                      : "nothing written")
               << '\n';
     return kExitUnhealthy;
   }

@@ -24,8 +24,8 @@ import tempfile
 import numpy as np
 
 SCENARIOS = ["trot", "physics-stand", "physics-trot", "physics-turn", "physics-walk",
-             "physics-push", "physics-step-down", "physics-ice", "physics-ice-aware",
-             "physics-ice-push"]
+             "physics-push", "physics-step-down", "physics-slope", "physics-ice",
+             "physics-ice-aware", "physics-ice-push"]
 FILTERS = ["linear-kf", "eskf", "invariant-ekf", "tsif"]
 
 
