@@ -35,7 +35,9 @@ struct FrictionPatch {
 };
 
 struct Terrain {
-  double friction = 0.6;  // sliding friction of the ground (the larger of the two geoms' counts)
+  // Sliding friction of the ground: the one that acts (MuJoCo takes the larger of two touching
+  // geoms' frictions and the robot's geoms have 0), in (0, 2].
+  double friction = 0.6;
   std::vector<FrictionPatch> patches;  // where several overlap, the last one listed holds
   // A step across the x axis at x = step_x: the ground is at z = 0 for x < step_x and at
   // z = step_height beyond (< 0: a step down, > 0: a step up; 0: flat).
