@@ -1,5 +1,6 @@
 #include "model/mujoco.hpp"
 
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
@@ -13,9 +14,17 @@ struct VfsDeleter {
   }
 };
 
+// MuJoCo's default warning handler also appends to MUJOCO_LOG.TXT in the working directory. The
+// kit reads the warning counters of mjData instead (sim/physics_simulator.cpp turns them into a
+// failed run), so a warning only goes to stderr and leaves no file behind.
+void warnToStderr(const char* message) {
+  std::fprintf(stderr, "MuJoCo warning: %s\n", message);
+}
+
 }  // namespace
 
 MjModelPtr loadMjcf(const std::string& xml, const std::string& name) {
+  mju_user_warning = warnToStderr;
   const std::unique_ptr<mjVFS, VfsDeleter> vfs(new mjVFS);
   mj_defaultVFS(vfs.get());
   if (mj_makeEmptyFileVFS(vfs.get(), name.c_str(), static_cast<int>(xml.size())) != 0) {

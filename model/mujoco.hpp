@@ -19,8 +19,9 @@ struct MjDataDeleter {
 using MjModelPtr = std::unique_ptr<mjModel, MjModelDeleter>;
 using MjDataPtr = std::unique_ptr<mjData, MjDataDeleter>;
 
-// Compiles an MJCF document (e.g. quadrupedMjcf()). Throws std::runtime_error carrying MuJoCo's
-// own message when the XML does not parse or the model does not compile.
+// Compiles an MJCF document (e.g. quadrupedMjcf()). Also routes MuJoCo's warnings to stderr
+// (instead of its default MUJOCO_LOG.TXT in the working directory). Throws std::runtime_error
+// carrying MuJoCo's own message when the XML does not parse or the model does not compile.
 MjModelPtr loadMjcf(const std::string& xml, const std::string& name = "legkit.xml");
 
 // Fresh simulation data for m (at qpos0). Throws std::runtime_error when MuJoCo cannot allocate it.
