@@ -98,7 +98,7 @@ SimCommand::SimCommand(CLI::App& app)
           ->capture_default_str()};
   analytic_only_.push_back(c.get_option("--foot-columns"));
   friction_option_ = c.add_option("--friction", friction_,
-                                  "Physics: friction coefficient of the ground, 0.05..2 (patches "
+                                  "Physics: friction coefficient of the ground, 0.01..2 (patches "
                                   "such as the ice keep their own)")
                          ->capture_default_str();
   push_option_ = c.add_option("--push", push_,
@@ -168,7 +168,7 @@ int SimCommand::runPhysics(std::ostream& out) const {
   options.scenario = sim::physicsScenarioByName(scenario_);
   options.duration = duration_option_->count() > 0 ? duration_ : options.scenario.duration;
   if (friction_option_->count() > 0) {
-    checkRange("--friction", friction_, 0.05, 2.0, "");
+    checkRange("--friction", friction_, 0.01, 2.0, "");
     options.scenario.terrain.friction = friction_;
   }
   if (push_option_->count() > 0) {
