@@ -54,20 +54,16 @@
 #include <array>
 
 #include "io/log.hpp"
+#include "model/floating_base_dynamics.hpp"
 #include "model/quadruped.hpp"
 #include "sim/gait.hpp"
 
 namespace legkit::sim {
 
-// What the controller believes about the robot (world frame unless said otherwise).
-struct ControllerState {
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // base attitude, body to world
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();      // base position [m]
-  Eigen::Vector3d v = Eigen::Vector3d::Zero();      // base velocity [m/s]
-  Eigen::Vector3d omega = Eigen::Vector3d::Zero();  // base angular rate, body frame [rad/s]
-  io::JointVector q = io::JointVector::Zero();      // joint angles [rad]
-  io::JointVector dq = io::JointVector::Zero();     // joint rates [rad/s]
-};
+// What the controller believes about the robot: the floating-base state of model/ (base R, p, v
+// world, omega body, joint angles and rates), so that its leg bias forces come straight from
+// model::QuadrupedDynamics.
+using ControllerState = model::FloatingBaseState;
 
 // What the robot is asked to do.
 struct LocomotionCommand {

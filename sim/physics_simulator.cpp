@@ -351,14 +351,7 @@ std::array<io::FootTruth, model::kNumLegs> contactTruth(const World& w, const do
 // the kit's own RNEA (model/floating_base_dynamics.hpp), not MuJoCo's, so that the controller sees
 // no truth and a wrong estimate reaches its gravity compensation.
 io::JointVector legBias(const model::QuadrupedDynamics& dynamics, const ControllerState& s) {
-  model::FloatingBaseState x;
-  x.p = s.p;
-  x.R = s.R;
-  x.v = s.v;
-  x.omega = s.omega;
-  x.q = s.q;
-  x.dq = s.dq;
-  return dynamics.biasForces(x).tail<io::kNumJoints>();
+  return dynamics.biasForces(s).tail<io::kNumJoints>();
 }
 
 // MuJoCo 2.2.2 answers a non-finite qpos, qvel, qacc or ctrl with a warning and (except for ctrl,
