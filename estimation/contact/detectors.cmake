@@ -1,0 +1,7 @@
+# legkit_contact: the sensor-based and kinematic detectors of section 57.6 (gait clock, GRF
+# threshold, Schmitt trigger, kinematic, the foot force from joint torques, the fallback chain).
+add_library(legkit_contact STATIC
+  gait_clock.cpp
+  gait_clock.hpp)
+target_include_directories(legkit_contact PUBLIC ${PROJECT_SOURCE_DIR})
+target_link_libraries(legkit_contact PUBLIC legkit_model lie::lie)
