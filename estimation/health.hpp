@@ -30,10 +30,10 @@ struct InputLimits {
   // [m^2] per axis. A "don't trust this" variance of 1e6 m^2 is fine; beyond 1e8 (10 km) the
   // measurement carries nothing and only costs the filter's arithmetic its digits.
   double foot_variance_max = 1e8;
-  double foot_speed_max = 20.0;          // [m/s] |v_body| of a stance foot
+  double foot_speed_max = 20.0;  // [m/s] |v_body| of a stance foot
   // An estimate beyond these is not a legged robot's state any more: the filter recovers.
-  double speed_max = 50.0;      // [m/s]
-  double position_max = 1e6;    // [m] from the origin
+  double speed_max = 50.0;    // [m/s]
+  double position_max = 1e6;  // [m] from the origin
 };
 
 // Why a sample (or part of it) was not used, or why the filter had to recover.
@@ -45,15 +45,20 @@ enum class Fault : int {
   kUpdateFailed,    // an innovation covariance did not factorise: that update is skipped
   kStateUnhealthy,  // state not finite, or P not symmetric positive definite: recovered
   kNoFootSlot,      // more feet in stance than the filter has foot states: the extra one unused
+  // No foot in stance for longer than the contact pipeline's bound (a contact source gone
+  // silent: the filter is dead reckoning). Counted once per such stretch, by the pipeline
+  // (estimation/contact_pipeline.hpp), never by a filter.
+  kNoContact,
   kCount
 };
 
 // A short name for each fault, for tables and messages.
 constexpr const char* faultName(Fault f) {
   constexpr std::array<const char*, static_cast<int>(Fault::kCount)> names = {
-      "gyro out of range",     "accelerometer out of range", "time gap",
-      "contact out of range",  "update failed",              "state unhealthy (recovered)",
-      "no free foot state"};
+      "gyro out of range",  "accelerometer out of range",
+      "time gap",           "contact out of range",
+      "update failed",      "state unhealthy (recovered)",
+      "no free foot state", "no contact for longer than the bound"};
   return names[static_cast<int>(f)];
 }
 
