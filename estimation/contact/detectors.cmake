@@ -2,6 +2,16 @@
 # threshold, Schmitt trigger, kinematic, the foot force from joint torques, the fallback chain).
 add_library(legkit_contact STATIC
   gait_clock.cpp
-  gait_clock.hpp)
+  gait_clock.hpp
+  foot_force.cpp
+  foot_force.hpp
+  grf_threshold.cpp
+  grf_threshold.hpp
+  schmitt_trigger.cpp
+  schmitt_trigger.hpp
+  kinematic_detector.cpp
+  kinematic_detector.hpp
+  fallback_detector.cpp
+  fallback_detector.hpp)
 target_include_directories(legkit_contact PUBLIC ${PROJECT_SOURCE_DIR})
 target_link_libraries(legkit_contact PUBLIC legkit_model lie::lie)

@@ -6,13 +6,14 @@
 namespace legkit::contact {
 
 void checkSignals(const ContactSignals& signals, const char* detector) {
+  const bool feet_ok = signals.num_feet >= 1 && signals.num_feet <= kMaxFeet;
+  if (feet_ok && std::isfinite(signals.dt) && signals.dt >= 0.0) return;
   const std::string at = std::string(detector) + " at t = " + std::to_string(signals.t) + ": ";
-  if (signals.num_feet < 1 || signals.num_feet > kMaxFeet)
+  if (!feet_ok)
     throw std::invalid_argument(at + "num_feet = " + std::to_string(signals.num_feet) +
                                 " outside [1, " + std::to_string(kMaxFeet) + "]");
-  if (!std::isfinite(signals.dt) || signals.dt < 0.0)
-    throw std::invalid_argument(at + "dt = " + std::to_string(signals.dt) +
-                                " (must be finite and >= 0)");
+  throw std::invalid_argument(at + "dt = " + std::to_string(signals.dt) +
+                              " (must be finite and >= 0)");
 }
 
 GaitClockDetector::GaitClockDetector(const GaitSchedule& gait) : gait_(gait) {

@@ -1,0 +1,99 @@
+#include "estimation/contact/grf_threshold.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "estimation/contact/gait_clock.hpp"
+
+namespace legkit::contact {
+
+FootForceReader::FootForceReader(ForceSource source, const ForceChecks& checks,
+                                 const model::QuadrupedGeometry& geometry,
+                                 const model::QuadrupedInertia& inertia)
+    : source_(source), checks_(checks) {
+  if (source == ForceSource::kJointTorque) torque_.emplace(geometry, inertia);
+}
+
+void FootForceReader::read(const ContactSignals& s, std::array<double, kMaxFeet>& force,
+                           std::array<const char*, kMaxFeet>& problem) {
+  problem.fill(nullptr);
+  if (source_ == ForceSource::kJointTorque) {
+    std::array<const char*, model::kNumLegs> why{};
+    const std::array<Eigen::Vector3d, model::kNumLegs> lambda = torque_->estimate(s, &why);
+    for (int i = 0; i < s.num_feet; ++i) {
+      if (i >= model::kNumLegs) {
+        force[i] = std::numeric_limits<double>::quiet_NaN();
+        problem[i] = "foot is not one of the quadruped's legs";
+        continue;
+      }
+      force[i] = lambda[i].z();
+      problem[i] = why[i];
+    }
+    return;
+  }
+  for (int i = 0; i < s.num_feet; ++i) {
+    const double f = s.feet[i].force;
+    force[i] = f;
+    bool saturated = false;
+    if (std::isnan(f)) {
+      problem[i] = "no force reading";
+    } else if (!std::isfinite(f)) {
+      problem[i] = "force is not finite";
+    } else if (f < checks_.negative_limit) {
+      problem[i] = "force negative";
+    } else if (f >= checks_.saturation) {
+      saturated = true;
+      saturated_time_[i] += s.dt;
+      if (saturated_time_[i] > checks_.stuck_time) problem[i] = "force stuck at saturation";
+    }
+    if (!saturated) saturated_time_[i] = 0.0;
+  }
+}
+
+namespace {
+
+ForceChecks checksOf(const GrfThresholdParams& p) {
+  return ForceChecks{p.saturation, p.stuck_time, p.negative_limit};
+}
+
+}  // namespace
+
+GrfThresholdDetector::GrfThresholdDetector(const GrfThresholdParams& params, ForceSource source,
+                                           const model::QuadrupedGeometry& geometry,
+                                           const model::QuadrupedInertia& inertia)
+    : params_(params), reader_(source, checksOf(params), geometry, inertia) {
+  if (!std::isfinite(params.threshold))
+    throw std::invalid_argument("grf-threshold: threshold not finite");
+  if (!(params.saturation > params.threshold))
+    throw std::invalid_argument("grf-threshold: saturation must be above the threshold");
+  if (!(params.stuck_time > 0.0))
+    throw std::invalid_argument("grf-threshold: stuck_time must be positive");
+  if (!(params.negative_limit <= 0.0))
+    throw std::invalid_argument("grf-threshold: negative_limit must be <= 0");
+}
+
+std::string GrfThresholdDetector::name() const {
+  return reader_.source() == ForceSource::kSensor ? "grf-threshold" : "grf-threshold-torque";
+}
+
+ContactEstimate GrfThresholdDetector::update(const ContactSignals& signals) {
+  checkSignals(signals, "grf-threshold");
+  std::array<double, kMaxFeet> force;
+  std::array<const char*, kMaxFeet> problem;
+  reader_.read(signals, force, problem);
+  ContactEstimate out;
+  out.t = signals.t;
+  out.num_feet = signals.num_feet;
+  for (int i = 0; i < signals.num_feet; ++i) {
+    FootContact& f = out.feet[i];
+    f.force = force[i];
+    f.problem = problem[i];
+    if (f.problem != nullptr) continue;
+    f.contact = force[i] > params_.threshold;  // c_i = [F_n,i > F_threshold]
+    f.probability = f.contact ? 1.0 : 0.0;
+  }
+  return out;
+}
+
+}  // namespace legkit::contact
