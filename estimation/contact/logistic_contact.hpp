@@ -18,6 +18,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross
 #include <limits>
 #include <optional>
 #include <string>

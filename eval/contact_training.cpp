@@ -1,0 +1,96 @@
+#include "eval/contact_training.hpp"
+
+#include <stdexcept>
+#include <string>
+
+#include "sim/physics_simulator.hpp"
+
+namespace legkit::eval {
+
+contact::GaitSchedule plannedGait(const sim::PhysicsScenario& scenario) {
+  contact::GaitSchedule g;
+  g.period = scenario.gait.period;
+  g.duty = scenario.gait.duty;
+  for (int leg = 0; leg < model::kNumLegs; ++leg) g.offset[leg] = scenario.gait.offset[leg];
+  g.start = scenario.stand_time;
+  g.num_feet = model::kNumLegs;
+  return g;
+}
+
+contact::BaseFeedback truthFeedback(const io::LogRow& row) {
+  contact::BaseFeedback b;
+  b.valid = true;
+  b.R = row.gt_q.toRotationMatrix();
+  b.v = row.gt_v;
+  b.p = row.gt_p;
+  return b;
+}
+
+contact::ContactSignals signalsFromRow(const io::LogLayout& layout, const io::LogRow& row,
+                                       double dt, const model::QuadrupedKinematics& kinematics,
+                                       const contact::BaseFeedback& base) {
+  contact::ContactSignals s;
+  s.t = row.t;
+  s.dt = dt;
+  s.num_feet = model::kNumLegs;
+  s.gyro = row.gyro;
+  s.acc = row.acc;
+  s.base = base;
+  s.has_joints = layout.joints;
+  s.q = row.q;
+  s.dq = row.dq;
+  s.has_torque = layout.torque;
+  s.tau = row.tau;
+  for (int leg = 0; leg < model::kNumLegs; ++leg) {
+    contact::FootSignals& f = s.feet[leg];
+    if (layout.force) f.force = row.force[leg];
+    if (layout.joints) {
+      const Eigen::Vector3d q = row.q.segment<3>(3 * leg);
+      f.has_kinematics = true;
+      f.p_body = kinematics.footPosition(leg, q);
+      f.v_body = kinematics.footJacobian(leg, q) * row.dq.segment<3>(3 * leg);
+    }
+  }
+  return s;
+}
+
+void appendTrainingSamples(const io::Log& log, const contact::GaitSchedule* gait,
+                           const model::QuadrupedKinematics& kinematics,
+                           std::vector<contact::ContactFeatures>& samples,
+                           std::vector<bool>& labels) {
+  if (!log.layout.joints || !log.layout.force || !log.layout.contact_truth ||
+      !log.layout.ground_truth)
+    throw std::invalid_argument(
+        "appendTrainingSamples: the log needs joint, force, ground-truth and contact_truth "
+        "columns");
+  samples.reserve(samples.size() + model::kNumLegs * log.rows.size());
+  labels.reserve(labels.size() + model::kNumLegs * log.rows.size());
+  for (std::size_t k = 0; k < log.rows.size(); ++k) {
+    const io::LogRow& row = log.rows[k];
+    const double dt = k == 0 ? 0.0 : row.t - log.rows[k - 1].t;
+    const contact::ContactSignals s =
+        signalsFromRow(log.layout, row, dt, kinematics, truthFeedback(row));
+    for (int leg = 0; leg < model::kNumLegs; ++leg) {
+      samples.push_back(contact::contactFeatures(s, leg, gait));
+      labels.push_back(row.gt_feet[leg].contact);
+    }
+  }
+}
+
+contact::LogisticModel trainContactModel(unsigned seed, const contact::TrainingOptions& options) {
+  const model::QuadrupedKinematics kinematics;
+  std::vector<contact::ContactFeatures> samples;
+  std::vector<bool> labels;
+  const char* const runs[] = {"physics-trot", "physics-walk", "physics-ice"};
+  for (unsigned k = 0; k < 3; ++k) {
+    sim::PhysicsOptions o = sim::PhysicsOptions::forScenario(runs[k]);
+    o.duration = 10.0;
+    o.seed = seed + 1000 + k;
+    const sim::PhysicsResult run = sim::simulatePhysics(o);
+    const contact::GaitSchedule gait = plannedGait(o.scenario);
+    appendTrainingSamples(run.log, &gait, kinematics, samples, labels);
+  }
+  return contact::trainLogistic(samples, labels, options);
+}
+
+}  // namespace legkit::eval
