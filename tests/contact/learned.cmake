@@ -2,3 +2,5 @@
 # set of the logistic model (legkit_contact_training).
 legkit_add_test(test_contact_momentum_observer SOURCES momentum_observer_test.cpp
                 LIBS legkit_contact_learned legkit_contact_training LABELS "57.6;physics")
+legkit_add_test(test_contact_logistic SOURCES logistic_test.cpp LIBS legkit_contact_learned
+                LABELS "57.6")
