@@ -11,21 +11,23 @@
 #include "eval/consistency.hpp"
 
 namespace legkit::eval {
-namespace {
-
-bool finite(const EstimateSample& x) {
-  return std::isfinite(x.t) && x.q.coeffs().allFinite() && x.v.allFinite() && x.p.allFinite();
-}
-
-}  // namespace
 
 std::string rowLocation(const io::Log& log, std::size_t k) {
   if (log.source.empty()) return {};
   return log.source + ":" + std::to_string(log.lineOfRow(k));
 }
 
-RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& frontend,
-                   const EstimateSample& x0) {
+namespace {
+
+bool finite(const EstimateSample& x) {
+  return std::isfinite(x.t) && x.q.coeffs().allFinite() && x.v.allFinite() && x.p.allFinite();
+}
+
+// The run of runOnLog: input_of(k, dt) gives row k's input (the estimator not yet stepped on
+// it); after_row() runs once that row's estimate has been recorded.
+template <typename InputOf, typename AfterRow>
+RunResult runRows(Estimator& estimator, const io::Log& log, const EstimateSample& x0,
+                  const InputOf& input_of, const AfterRow& after_row) {
   RunResult result;
   result.name = estimator.name();
   result.trajectory.reserve(log.rows.size());
@@ -51,7 +53,7 @@ RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& 
     const io::LogRow& row = log.rows[k];
     try {
       const double dt = k == 0 ? 0.0 : row.t - log.rows[k - 1].t;
-      const StepInput in = frontend.input(row, dt);
+      const StepInput& in = input_of(k, dt);
       const auto t0 = std::chrono::steady_clock::now();
       estimator.step(in);
       busy += std::chrono::steady_clock::now() - t0;
@@ -82,6 +84,7 @@ RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& 
         }
       }
       result.trajectory.push_back(x);
+      after_row();
       if (!cov) continue;
       result.sigma.push_back(cov->P.diagonal().cwiseSqrt());
       result.nees_dof = neesDof(*cov);
@@ -96,6 +99,58 @@ RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& 
   }
   result.health = estimator.health();
   result.us_per_step = steps == 0 ? 0.0 : busy.count() / static_cast<double>(steps);
+  return result;
+}
+
+}  // namespace
+
+RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& frontend,
+                   const EstimateSample& x0) {
+  StepInput in;
+  return runRows(
+      estimator, log, x0,
+      [&](std::size_t k, double dt) -> const StepInput& {
+        in = frontend.input(log.rows[k], dt);
+        return in;
+      },
+      [] {});
+}
+
+RunResult runOnLog(Estimator& estimator, const io::Log& log, ContactPipeline& pipeline,
+                   const EstimateSample& x0) {
+  pipeline.reset();
+  std::chrono::duration<double, std::micro> busy{0};
+  std::size_t steps = 0;
+  std::vector<std::array<bool, contact::kMaxFeet>> detected;
+  detected.reserve(log.rows.size());
+  std::array<bool, contact::kMaxFeet> stance{};  // of the row being run
+  RunResult result = runRows(
+      estimator, log, x0,
+      [&](std::size_t k, double dt) -> const StepInput& {
+        const auto t0 = std::chrono::steady_clock::now();
+        const StepInput& in =
+            pipeline.step(log.rows[k], dt, estimator.estimate(), estimator.covariance());
+        busy += std::chrono::steady_clock::now() - t0;
+        ++steps;
+        const contact::ContactEstimate& c = pipeline.contacts();
+        for (int foot = 0; foot < contact::kMaxFeet; ++foot) {
+          stance[foot] = foot < c.num_feet && c.feet[foot].usable() && c.feet[foot].contact;
+        }
+        return in;
+      },
+      [&] { detected.push_back(stance); });
+  result.contact_source = pipeline.source();
+  result.detected_contact = std::move(detected);
+  result.pipeline_us_per_step = steps == 0 ? 0.0 : busy.count() / static_cast<double>(steps);
+  for (int f = 0; f < static_cast<int>(Fault::kCount); ++f) {
+    result.health.count[f] += pipeline.health().count[f];
+  }
+  if (pipeline.health().total() > 0 &&
+      (result.health.last_fault == Fault::kCount ||
+       pipeline.health().last_fault_t >= result.health.last_fault_t)) {
+    result.health.last_fault = pipeline.health().last_fault;
+    result.health.last_fault_t = pipeline.health().last_fault_t;
+  }
   return result;
 }
 

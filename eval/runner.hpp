@@ -1,10 +1,13 @@
 // Runs an estimator over a whole log and times each step.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "estimation/contact_pipeline.hpp"
 #include "estimation/estimator.hpp"
 #include "estimation/health.hpp"
 #include "estimation/log_frontend.hpp"
@@ -32,6 +35,14 @@ struct RunResult {
   std::vector<double> nees;  // per row, against the log's ground truth (empty without one)
   int nees_dof = 0;          // 9, or 6 for a filter without attitude; 0 for no covariance
   Health health;             // the estimator's health at the end of the run (or at its failure)
+                             // and, on a pipeline, the pipeline's (Fault::kNoContact)
+  // On a contact pipeline (else empty): its contact source ("truth" or the detector's name),
+  // per row its contact flags (the detector's usable "contact" answers, or the log's flags; same
+  // rows as trajectory, indexed by foot id), and
+  // the mean wall time of ContactPipeline::step [microseconds].
+  std::string contact_source;
+  std::vector<std::array<bool, contact::kMaxFeet>> detected_contact;
+  double pipeline_us_per_step = 0;
   std::optional<RunFailure> failure;  // set when the run stopped early
 
   bool failed() const { return failure.has_value(); }
@@ -52,6 +63,12 @@ double normalisedAnees(const RunResult& run);
 // definite, the run stops at that row and result.failure says why and where; runOnLog itself
 // never throws for it, so that the caller can go on with other estimators.
 RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& frontend,
+                   const EstimateSample& x0);
+// The same on detected contacts: the pipeline is reset, then gives each row's input from the
+// estimator's estimate and covariance after the previous row (57.6). Same failure rules (the
+// pipeline throwing is a failure of the run). Also records the contact source and the stance
+// flags per row, and adds the pipeline's health (kNoContact) to the run's.
+RunResult runOnLog(Estimator& estimator, const io::Log& log, ContactPipeline& pipeline,
                    const EstimateSample& x0);
 
 // "file:line" of log row k when the log knows the file it came from, else empty.

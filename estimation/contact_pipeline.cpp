@@ -1,0 +1,73 @@
+#include "estimation/contact_pipeline.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+namespace legkit {
+
+ContactPipeline::ContactPipeline(const io::LogLayout& layout,
+                                 const model::QuadrupedKinematics& kinematics,
+                                 const FrontendNoise& noise, const PipelineOptions& options,
+                                 std::unique_ptr<contact::ContactDetector> detector)
+    : frontend_(layout, kinematics, noise), options_(options), detector_(std::move(detector)) {
+  if (!(options.no_contact_bound > 0.0) || !std::isfinite(options.no_contact_bound)) {
+    throw std::invalid_argument("ContactPipeline: no_contact_bound must be positive, got " +
+                                std::to_string(options.no_contact_bound));
+  }
+  if (!detector_ && options.contact != "truth") {
+    throw std::invalid_argument("ContactPipeline: no detector for the contact source '" +
+                                options.contact + "'");
+  }
+  if (!detector_ && !layout.contact) {
+    throw std::invalid_argument(
+        "contact source 'truth': the log has no contact columns (choose a detector)");
+  }
+}
+
+std::string ContactPipeline::source() const {
+  return detector_ ? detector_->name() : "truth";
+}
+
+void ContactPipeline::reset() {
+  if (detector_) detector_->reset();
+  health_ = Health{};
+  last_stance_t_.reset();
+  silent_ = false;
+}
+
+const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const EstimateSample& x,
+                                       const std::optional<BaseCovariance>& /*P*/) {
+  const int num_feet = frontend_.layout().num_feet;
+  if (detector_) {
+    contact::BaseFeedback base;
+    base.valid = true;
+    base.R = x.q.toRotationMatrix();
+    base.v = x.v;
+    base.p = x.p;
+    contacts_ = detector_->update(frontend_.signals(row, dt, base));
+    input_ = frontend_.input(row, dt, contacts_, options_.soft);
+  } else {
+    contacts_.t = row.t;
+    contacts_.num_feet = num_feet;
+    for (int foot = 0; foot < num_feet; ++foot) {
+      contact::FootContact& c = contacts_.feet[foot];
+      c.contact = row.contact[foot];
+      c.probability = c.contact ? 1.0 : 0.0;
+      c.force = frontend_.layout().force ? row.force[foot] : std::nan("");
+      c.problem = nullptr;
+    }
+    input_ = frontend_.input(row, dt);  // the log's flags, as they have always been read
+  }
+  // Silence: no stance foot since last_stance_t_ for longer than the bound.
+  if (input_.num_contacts > 0 || !last_stance_t_) {
+    last_stance_t_ = row.t;
+    silent_ = false;
+  } else if (!silent_ && row.t - *last_stance_t_ > options_.no_contact_bound) {
+    health_.record(Fault::kNoContact, row.t);
+    silent_ = true;
+  }
+  return input_;
+}
+
+}  // namespace legkit

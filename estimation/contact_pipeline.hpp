@@ -1,0 +1,71 @@
+// From log rows to estimator inputs on detected contacts (sections 57.6 and 57.7): per row,
+//   signals (LogFrontend::signals, with the estimator's estimate of the previous step)
+//   -> a contact detector (or the log's contact_ flags for the source "truth")
+//   -> StepInput (stance feet weighted by their contact probability, LogFrontend::input)
+//   -> the caller hands it to the estimator.
+// The detector judges with the last estimate and the estimator uses the detection in this step
+// (57.6's chicken-and-egg rule). The pipeline also watches for silence: no foot in stance for
+// longer than no_contact_bound is Fault::kNoContact in its health(), once per such stretch, so
+// that a run whose contact source went quiet (a filter reduced to dead reckoning) says so.
+// Fixed size: step() never allocates (the detector's update() does not either).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "estimation/contact/contact_detector.hpp"
+#include "estimation/contact/soft_contact.hpp"
+#include "estimation/estimator.hpp"
+#include "estimation/health.hpp"
+#include "estimation/log_frontend.hpp"
+#include "io/log.hpp"
+
+namespace legkit {
+
+struct PipelineOptions {
+  // "truth": the log's contact_ columns (the physics simulator writes the true contact there; a
+  // robot's log may carry its own flags); otherwise the name of the detector that was built.
+  std::string contact = "truth";
+  double no_contact_bound = 0.5;    // [s] longest stretch without a stance foot before kNoContact
+  contact::SoftContactParams soft;  // how p_c weights a foot (detectors only)
+};
+
+class ContactPipeline {
+ public:
+  // Contacts from `detector`, or, when it is null, from the log's contact columns (then
+  // options.contact must be "truth" and the layout must have them). Throws
+  // std::invalid_argument naming what is missing, or for a bound that is not positive.
+  ContactPipeline(const io::LogLayout& layout, const model::QuadrupedKinematics& kinematics,
+                  const FrontendNoise& noise, const PipelineOptions& options,
+                  std::unique_ptr<contact::ContactDetector> detector = nullptr);
+
+  // "truth" or the detector's name.
+  std::string source() const;
+  const PipelineOptions& options() const { return options_; }
+  const LogFrontend& frontend() const { return frontend_; }
+
+  // Forgets the detector's state and the health record: the next step() is a run's first row.
+  void reset();
+  // The input of one row for the estimator, given its estimate x and covariance P after the
+  // previous row (after reset(): its initial state). The reference stays valid until the next
+  // call.
+  const StepInput& step(const io::LogRow& row, double dt, const EstimateSample& x,
+                        const std::optional<BaseCovariance>& P);
+  // The contact answer of the last step (for the log's flags: probability 0 or 1).
+  const contact::ContactEstimate& contacts() const { return contacts_; }
+  // kNoContact counts since reset().
+  const Health& health() const { return health_; }
+
+ private:
+  LogFrontend frontend_;
+  PipelineOptions options_;
+  std::unique_ptr<contact::ContactDetector> detector_;
+  contact::ContactEstimate contacts_;
+  StepInput input_;
+  Health health_;
+  std::optional<double> last_stance_t_;  // last row with a stance foot (or the first row)
+  bool silent_ = false;                  // the current stretch has been counted
+};
+
+}  // namespace legkit

@@ -1,0 +1,210 @@
+// The estimators on detected contacts (57.6): the pipeline row -> signals -> detector -> input,
+// against the old path on the log's flags, on a log without flags, and its silence watch.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <memory>
+
+#include "estimation/contact/gait_clock.hpp"
+#include "estimation/contact_pipeline.hpp"
+#include "estimation/estimators.hpp"
+#include "eval/metrics.hpp"
+#include "eval/runner.hpp"
+#include "sim/physics_simulator.hpp"
+
+using namespace legkit;
+
+namespace {
+
+sim::PhysicsOptions trotOptions(double duration) {
+  sim::PhysicsOptions o = sim::PhysicsOptions::forScenario("physics-trot");
+  o.duration = duration;
+  o.seed = 7;
+  return o;
+}
+
+// A short physics trot (MuJoCo), the same for the tests of this file that need one.
+const io::Log& trotLog() {
+  static const io::Log log = sim::simulatePhysics(trotOptions(3.0)).log;
+  return log;
+}
+
+// The scenario's gait as a robot's planner would publish it (the simulator starts the clock at
+// stand_time).
+contact::GaitSchedule plannedGait(const sim::PhysicsScenario& s) {
+  contact::GaitSchedule g;
+  g.period = s.gait.period;
+  g.duty = s.gait.duty;
+  for (int foot = 0; foot < 4; ++foot) g.offset[foot] = s.gait.offset[foot];
+  g.start = s.stand_time;
+  return g;
+}
+
+}  // namespace
+
+TEST_CASE("pipeline: contact 'truth' gives every estimator exactly the old path's estimates",
+          "[57.6][physics]") {
+  const io::Log& log = trotLog();
+  const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
+  ContactPipeline pipeline(log.layout, model::QuadrupedKinematics(), FrontendNoise{}, {});
+  CHECK(pipeline.source() == "truth");
+  const EstimateSample x0 = eval::initialState(log);
+  for (const std::string& name : estimatorNames()) {
+    INFO(name);
+    const std::unique_ptr<Estimator> e = makeEstimator(name);
+    const eval::RunResult old_path = eval::runOnLog(*e, log, frontend, x0);
+    const eval::RunResult piped = eval::runOnLog(*e, log, pipeline, x0);
+    REQUIRE_FALSE(piped.failed());
+    REQUIRE(piped.trajectory.size() == old_path.trajectory.size());
+    bool identical = true;
+    for (std::size_t k = 0; k < log.rows.size(); ++k) {
+      const EstimateSample& a = old_path.trajectory[k];
+      const EstimateSample& b = piped.trajectory[k];
+      identical = identical && a.p == b.p && a.v == b.v && a.q.coeffs() == b.q.coeffs();
+    }
+    CHECK(identical);
+    CHECK(piped.contact_source == "truth");
+    REQUIRE(piped.detected_contact.size() == log.rows.size());
+    bool flags = true;
+    for (std::size_t k = 0; k < log.rows.size(); ++k) {
+      for (int foot = 0; foot < 4; ++foot) {
+        flags = flags && piped.detected_contact[k][foot] == log.rows[k].contact[foot];
+      }
+    }
+    CHECK(flags);
+    CHECK(piped.health[Fault::kNoContact] == 0);
+  }
+}
+
+TEST_CASE("pipeline: a log without contact columns runs on a detector, not on dead reckoning",
+          "[57.6][physics]") {
+  // Long enough for the IMU alone to drift visibly.
+  io::Log log = sim::simulatePhysics(trotOptions(15.0)).log;
+  log.layout.contact = false;
+  for (io::LogRow& row : log.rows) row.contact.fill(false);
+  const EstimateSample x0 = eval::initialState(log);
+
+  // The log's flags are asked for, and there are none: an error, never silence.
+  CHECK_THROWS_WITH(ContactPipeline(log.layout, model::QuadrupedKinematics(), FrontendNoise{}, {}),
+                    Catch::Matchers::Contains("no contact columns"));
+
+  PipelineOptions options;
+  options.contact = "gait-clock";
+  ContactPipeline pipeline(
+      log.layout, model::QuadrupedKinematics(), FrontendNoise{}, options,
+      std::make_unique<contact::GaitClockDetector>(plannedGait(trotOptions(15.0).scenario)));
+  const std::unique_ptr<Estimator> eskf = makeEstimator("eskf");
+  const eval::RunResult detected = eval::runOnLog(*eskf, log, pipeline, x0);
+  REQUIRE_FALSE(detected.failed());
+  CHECK(detected.contact_source == "gait-clock");
+  CHECK(detected.health[Fault::kNoContact] == 0);
+  // The old path on this log: no feet at all, the filter integrates the IMU alone.
+  const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
+  const eval::RunResult blind = eval::runOnLog(*eskf, log, frontend, x0);
+  const eval::Metrics with = eval::compare(log, detected.trajectory);
+  const eval::Metrics without = eval::compare(log, blind.trajectory);
+  INFO("position RMSE on the gait clock " << with.position_rmse << " m, without feet "
+                                          << without.position_rmse << " m");
+  CHECK(with.position_rmse < 0.1 * without.position_rmse);
+  CHECK(with.velocity_rmse < 0.25 * without.velocity_rmse);
+}
+
+TEST_CASE("pipeline: no stance foot for longer than the bound is counted once per stretch",
+          "[57.6][physics]") {
+  io::Log log = trotLog();
+  // Silence the flags over [1.0, 1.7) s (0.7 s: beyond the 0.5 s bound) and [2.0, 2.4) s (0.4 s:
+  // within it).
+  for (io::LogRow& row : log.rows) {
+    if ((row.t >= 1.0 && row.t < 1.7) || (row.t >= 2.0 && row.t < 2.4)) row.contact.fill(false);
+  }
+  ContactPipeline pipeline(log.layout, model::QuadrupedKinematics(), FrontendNoise{}, {});
+  const std::unique_ptr<Estimator> eskf = makeEstimator("eskf");
+  const eval::RunResult run = eval::runOnLog(*eskf, log, pipeline, eval::initialState(log));
+  REQUIRE_FALSE(run.failed());
+  CHECK(run.health[Fault::kNoContact] == 1);
+  CHECK(run.health.last_fault == Fault::kNoContact);
+  // Counted at the first row beyond the bound: the last stance row is t = 0.999 s.
+  CHECK(run.health.last_fault_t == Approx(1.5).margin(2e-3));
+  CHECK(run.ok());  // a warning, not a recovery
+  CHECK_THAT(eval::describe(run.health),
+             Catch::Matchers::Contains("1 no contact for longer than the bound"));
+
+  PipelineOptions tight;
+  tight.no_contact_bound = 0.3;
+  ContactPipeline strict(log.layout, model::QuadrupedKinematics(), FrontendNoise{}, tight);
+  CHECK(eval::runOnLog(*eskf, log, strict, eval::initialState(log)).health[Fault::kNoContact] == 2);
+  tight.no_contact_bound = 0.0;
+  CHECK_THROWS_WITH(
+      ContactPipeline(log.layout, model::QuadrupedKinematics(), FrontendNoise{}, tight),
+      Catch::Matchers::Contains("no_contact_bound"));
+}
+
+TEST_CASE("frontend: a detector sees what the robot measured, never the contact or truth columns",
+          "[57.6][physics]") {
+  const io::Log& log = trotLog();
+  const model::QuadrupedKinematics kinematics;
+  const LogFrontend frontend(log.layout, kinematics);
+  io::LogRow row = log.rows[1500];
+  contact::BaseFeedback base;
+  base.valid = true;
+  base.v = Eigen::Vector3d(0.5, 0, 0);
+  const contact::ContactSignals s = frontend.signals(row, 1e-3, base);
+  CHECK(s.num_feet == 4);
+  CHECK(s.has_joints);
+  CHECK(s.has_torque == log.layout.torque);
+  CHECK(s.base.v == base.v);
+  CHECK(s.q == row.q);
+  for (int foot = 0; foot < 4; ++foot) {
+    CHECK(s.feet[foot].force == row.force[foot]);
+    CHECK(s.feet[foot].has_kinematics);
+    const Eigen::Vector3d q = row.q.segment<3>(3 * foot);
+    CHECK(s.feet[foot].p_body == kinematics.footPosition(foot, q));
+    CHECK(s.feet[foot].v_body == kinematics.footJacobian(foot, q) * row.dq.segment<3>(3 * foot));
+  }
+  // Flipping the flags and the truth changes nothing a detector sees.
+  row.contact = {!row.contact[0], !row.contact[1], !row.contact[2], !row.contact[3]};
+  row.gt_p += Eigen::Vector3d(1, 2, 3);
+  row.gt_feet[0].contact = !row.gt_feet[0].contact;
+  row.gt_feet[0].normal_force += 100.0;
+  const contact::ContactSignals flipped = frontend.signals(row, 1e-3, base);
+  for (int foot = 0; foot < 4; ++foot) {
+    CHECK(flipped.feet[foot].force == s.feet[foot].force);
+    CHECK(flipped.feet[foot].p_body == s.feet[foot].p_body);
+  }
+  // Without a force column the force is NaN (no sensor), not 0 (a foot in the air).
+  io::LogLayout no_force = log.layout;
+  no_force.force = false;
+  const LogFrontend blind(no_force, kinematics);
+  CHECK(std::isnan(blind.signals(row, 1e-3, base).feet[2].force));
+}
+
+TEST_CASE("frontend: the detector's answer weights each foot by p_c; unsure feet are left out",
+          "[57.6][physics]") {
+  const io::Log& log = trotLog();
+  const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
+  const io::LogRow& row = log.rows[1500];
+  contact::ContactEstimate answer;
+  answer.num_feet = 4;
+  answer.feet[0] = {true, 1.0};
+  answer.feet[1] = {true, 0.6};
+  answer.feet[2] = {true, 0.04};  // below min_probability 0.05
+  answer.feet[3] = {true, 1.0, 0.0, "force is NaN"};
+  const contact::SoftContactParams soft;
+  const StepInput in = frontend.input(row, 1e-3, answer, soft);
+  REQUIRE(in.num_contacts == 2);
+  CHECK(in.contacts[0].foot == 0);
+  CHECK(in.contacts[1].foot == 1);
+  // The hard-flag measurement of foot 1, then R / (p_c + eps) + R_swing (1 - p_c).
+  io::LogRow flagged = row;
+  flagged.contact = {false, true, false, false};
+  io::LogLayout with_flags = log.layout;
+  with_flags.contact = true;
+  const StepInput hard = LogFrontend(with_flags, model::QuadrupedKinematics()).input(flagged, 1e-3);
+  REQUIRE(hard.num_contacts == 1);
+  const Eigen::Matrix3d expected =
+      hard.contacts[0].cov / 0.61 + 0.05 * 0.05 * 0.4 * Eigen::Matrix3d::Identity();
+  CHECK((in.contacts[1].cov - expected).norm() < 1e-15);
+  CHECK(in.contacts[1].p_body == hard.contacts[0].p_body);
+  CHECK(in.t == row.t);
+  CHECK(in.imu.w_m == row.gyro);
+}
