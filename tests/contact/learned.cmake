@@ -4,3 +4,5 @@ legkit_add_test(test_contact_momentum_observer SOURCES momentum_observer_test.cp
                 LIBS legkit_contact_learned legkit_contact_training LABELS "57.6;physics")
 legkit_add_test(test_contact_logistic SOURCES logistic_test.cpp LIBS legkit_contact_learned
                 LABELS "57.6")
+legkit_add_test(test_contact_training SOURCES contact_training_test.cpp
+                LIBS legkit_contact_learned legkit_contact_training LABELS "57.6;physics")
