@@ -29,8 +29,17 @@
 // for the first settle_time after a start or a restart (the residual starts at zero, so an
 // answer then would be a silent "no contact"). A problem restarts the observer.
 //
-// Fixed size (18 x 18 Eigen): update() never allocates. About 3 us per sample: M by CRBA and h by
-// RNEA each cost ~1.4 us (bench/bench_contact_learned.cpp).
+// The gain: K_O trades delay for noise. The noise is the gyro's (0.13 rad/s per sample on the
+// kit's IMU) carried through the angular momentum into r, in proportion to K_O; on sensors made
+// noiseless the standing error is 0.09 N, the model being exact. On physics logs (seed 7, 4 s,
+// truth as base feedback; tests/contact/momentum_observer_test.cpp, `-s` prints the figures):
+//   K_O = 50:  rms 3.7 N standing, trotting 9.5 N at its best lag of 11 ms, F1 1.00 / 0.98;
+//   K_O = 200: rms 15.4 N standing, trotting best lag 3 ms (the chapter's ~5 ms).
+// The default keeps the quieter 50.
+//
+// Fixed size (18 x 18 Eigen): update() never allocates. 4.7 us per sample (1.2 us per foot): M by
+// CRBA and h by RNEA cost ~1.4 us each (`bench_contact_learned`, CPU time on a loaded 2-core
+// machine).
 #pragma once
 
 #include <Eigen/Core>

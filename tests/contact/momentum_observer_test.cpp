@@ -256,4 +256,19 @@ TEST_CASE("momentum observer on physics logs: normal forces and contact against 
     CHECK(rmsError(tr, 0) < 16.0);
     CHECK(f1(tr) > 0.96);
   }
+  SECTION("the gain trades delay for noise") {
+    // K_O 50 -> 200: rms standing 3.7 -> 15.4 N (noise grows with K_O), best lag trotting
+    // 11 -> 3 ms (measured; `test_contact_momentum_observer -s` prints them).
+    MomentumObserverParams fast;
+    fast.K_O = 200.0;
+    fast.settle_time = 3.0 / fast.K_O;
+    const io::Log stand = physicsLog("physics-stand", 4.0), trot = physicsLog("physics-trot", 4.0);
+    const Trace stand50 = observe(stand), stand200 = observe(stand, fast);
+    const Trace trot50 = observe(trot), trot200 = observe(trot, fast);
+    INFO("standing rms: K_O 50 " << rmsError(stand50, 0) << " N, K_O 200 " << rmsError(stand200, 0)
+                                 << " N; trotting best lag: K_O 50 " << bestLag(trot50)
+                                 << " ms, K_O 200 " << bestLag(trot200) << " ms");
+    CHECK(rmsError(stand200, 0) > 3.0 * rmsError(stand50, 0));
+    CHECK(bestLag(trot200) < bestLag(trot50) - 4);
+  }
 }
