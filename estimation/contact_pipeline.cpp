@@ -10,7 +10,10 @@ ContactPipeline::ContactPipeline(const io::LogLayout& layout,
                                  const model::QuadrupedKinematics& kinematics,
                                  const FrontendNoise& noise, const PipelineOptions& options,
                                  std::unique_ptr<contact::ContactDetector> detector)
-    : frontend_(layout, kinematics, noise), options_(options), detector_(std::move(detector)) {
+    : frontend_(layout, kinematics, noise),
+      options_(options),
+      detector_(std::move(detector)),
+      guard_(options.slip_params, options.slip) {
   if (!(options.no_contact_bound > 0.0) || !std::isfinite(options.no_contact_bound)) {
     throw std::invalid_argument("ContactPipeline: no_contact_bound must be positive, got " +
                                 std::to_string(options.no_contact_bound));
@@ -31,13 +34,14 @@ std::string ContactPipeline::source() const {
 
 void ContactPipeline::reset() {
   if (detector_) detector_->reset();
+  guard_.reset();
   health_ = Health{};
   last_stance_t_.reset();
   silent_ = false;
 }
 
 const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const EstimateSample& x,
-                                       const std::optional<BaseCovariance>& /*P*/) {
+                                       const std::optional<BaseCovariance>& P) {
   const int num_feet = frontend_.layout().num_feet;
   if (detector_) {
     contact::BaseFeedback base;
@@ -59,7 +63,8 @@ const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const E
     }
     input_ = frontend_.input(row, dt);  // the log's flags, as they have always been read
   }
-  // Silence: no stance foot since last_stance_t_ for longer than the bound.
+  // Silence of the contact source (a slip reaction dropping feet is not silence): no stance foot
+  // since last_stance_t_ for longer than the bound.
   if (input_.num_contacts > 0 || !last_stance_t_) {
     last_stance_t_ = row.t;
     silent_ = false;
@@ -67,7 +72,7 @@ const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const E
     health_.record(Fault::kNoContact, row.t);
     silent_ = true;
   }
-  return input_;
+  return guard_.apply(input_, x, P, reacted_, &slip_report_);
 }
 
 }  // namespace legkit

@@ -2,6 +2,8 @@
 //   signals (LogFrontend::signals, with the estimator's estimate of the previous step)
 //   -> a contact detector (or the log's contact_ flags for the source "truth")
 //   -> StepInput (stance feet weighted by their contact probability, LogFrontend::input)
+//   -> SlipGuard (57.7: each stance foot's velocity residual against the estimate and its
+//      covariance; the reaction chosen: none, inflate R, drop the foot, IMU only while all slip)
 //   -> the caller hands it to the estimator.
 // The detector judges with the last estimate and the estimator uses the detection in this step
 // (57.6's chicken-and-egg rule). The pipeline also watches for silence: no foot in stance for
@@ -19,6 +21,7 @@
 #include "estimation/estimator.hpp"
 #include "estimation/health.hpp"
 #include "estimation/log_frontend.hpp"
+#include "estimation/slip/slip_guard.hpp"
 #include "io/log.hpp"
 
 namespace legkit {
@@ -29,13 +32,17 @@ struct PipelineOptions {
   std::string contact = "truth";
   double no_contact_bound = 0.5;    // [s] longest stretch without a stance foot before kNoContact
   contact::SoftContactParams soft;  // how p_c weights a foot (detectors only)
+  // What the filter does with a foot found slipping; with kNone the slip check still reports.
+  slip::SlipReaction slip = slip::SlipReaction::kNone;
+  slip::SlipParams slip_params;
 };
 
 class ContactPipeline {
  public:
   // Contacts from `detector`, or, when it is null, from the log's contact columns (then
   // options.contact must be "truth" and the layout must have them). Throws
-  // std::invalid_argument naming what is missing, or for a bound that is not positive.
+  // std::invalid_argument naming what is missing, for a bound that is not positive, or what
+  // SlipGuard throws for the slip parameters.
   ContactPipeline(const io::LogLayout& layout, const model::QuadrupedKinematics& kinematics,
                   const FrontendNoise& noise, const PipelineOptions& options,
                   std::unique_ptr<contact::ContactDetector> detector = nullptr);
@@ -54,6 +61,8 @@ class ContactPipeline {
                         const std::optional<BaseCovariance>& P);
   // The contact answer of the last step (for the log's flags: probability 0 or 1).
   const contact::ContactEstimate& contacts() const { return contacts_; }
+  // The slip check of the last step (before the reaction was applied).
+  const slip::SlipReport& slipReport() const { return slip_report_; }
   // kNoContact counts since reset().
   const Health& health() const { return health_; }
 
@@ -61,8 +70,11 @@ class ContactPipeline {
   LogFrontend frontend_;
   PipelineOptions options_;
   std::unique_ptr<contact::ContactDetector> detector_;
+  slip::SlipGuard guard_;
   contact::ContactEstimate contacts_;
-  StepInput input_;
+  StepInput input_;                   // from the contacts
+  std::optional<StepInput> reacted_;  // the guard's copy when its reaction changed input_
+  slip::SlipReport slip_report_;
   Health health_;
   std::optional<double> last_stance_t_;  // last row with a stance foot (or the first row)
   bool silent_ = false;                  // the current stretch has been counted

@@ -123,6 +123,8 @@ RunResult runOnLog(Estimator& estimator, const io::Log& log, ContactPipeline& pi
   std::size_t steps = 0;
   std::vector<std::array<bool, contact::kMaxFeet>> detected;
   detected.reserve(log.rows.size());
+  std::vector<SlipSummary> slip;
+  slip.reserve(log.rows.size());
   std::array<bool, contact::kMaxFeet> stance{};  // of the row being run
   RunResult result = runRows(
       estimator, log, x0,
@@ -138,9 +140,15 @@ RunResult runOnLog(Estimator& estimator, const io::Log& log, ContactPipeline& pi
         }
         return in;
       },
-      [&] { detected.push_back(stance); });
+      [&] {
+        detected.push_back(stance);
+        const slip::SlipReport& r = pipeline.slipReport();
+        slip.push_back({r.num_feet, r.numSlipping(), r.all_slipping, r.outlier});
+      });
   result.contact_source = pipeline.source();
   result.detected_contact = std::move(detected);
+  result.slip = std::move(slip);
+  result.slip_reaction = slip::slipReactionName(pipeline.options().slip);
   result.pipeline_us_per_step = steps == 0 ? 0.0 : busy.count() / static_cast<double>(steps);
   for (int f = 0; f < static_cast<int>(Fault::kCount); ++f) {
     result.health.count[f] += pipeline.health().count[f];

@@ -25,6 +25,14 @@ struct RunFailure {
   std::string where;    // "file:line" of that row when the log names its file, else empty
 };
 
+// One row's slip check on a contact pipeline, in short (slip::SlipReport).
+struct SlipSummary {
+  int checked = 0;            // stance feet checked
+  int slipping = 0;           // of which found slipping
+  bool all_slipping = false;  // every foot, or the IMU-vs-legs test
+  int outlier = -1;           // foot id of the multi-foot outlier, -1 if none
+};
+
 struct RunResult {
   std::string name;
   // One estimate per log row; after a failure, one per row before the failing row.
@@ -42,6 +50,8 @@ struct RunResult {
   // the mean wall time of ContactPipeline::step [microseconds].
   std::string contact_source;
   std::vector<std::array<bool, contact::kMaxFeet>> detected_contact;
+  std::vector<SlipSummary> slip;  // per row (same rows), whatever the reaction
+  std::string slip_reaction;      // "none", "inflate", "drop" or "imu-only"
   double pipeline_us_per_step = 0;
   std::optional<RunFailure> failure;  // set when the run stopped early
 
@@ -67,7 +77,7 @@ RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& 
 // The same on detected contacts: the pipeline is reset, then gives each row's input from the
 // estimator's estimate and covariance after the previous row (57.6). Same failure rules (the
 // pipeline throwing is a failure of the run). Also records the contact source and the stance
-// flags per row, and adds the pipeline's health (kNoContact) to the run's.
+// flags and slip checks per row, and adds the pipeline's health (kNoContact) to the run's.
 RunResult runOnLog(Estimator& estimator, const io::Log& log, ContactPipeline& pipeline,
                    const EstimateSample& x0);
 
