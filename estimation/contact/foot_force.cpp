@@ -18,7 +18,7 @@ double jacobianRatio(const Eigen::Matrix3d& J) {
 FootForceFromTorque::FootForceFromTorque(const model::QuadrupedGeometry& geometry,
                                          const model::QuadrupedInertia& inertia,
                                          const FootForceParams& params)
-    : dynamics_(geometry, inertia, params.gravity), params_(params) {
+    : dynamics_(geometry, inertia, params.gravity), params_(params), damping_(inertia.damping) {
   if (!(params.min_jacobian_ratio >= 0.0 && params.min_jacobian_ratio < 1.0))
     throw std::invalid_argument("FootForceFromTorque: min_jacobian_ratio = " +
                                 std::to_string(params.min_jacobian_ratio) + " outside [0, 1)");
@@ -102,8 +102,8 @@ std::array<Eigen::Vector3d, model::kNumLegs> FootForceFromTorque::estimate(
       why[l] = "leg singular";
       continue;
     }
-    // lambda_l = (R B_J)^-T (h_l - tau_l) = R B_J^-T (h_l - tau_l)
-    const Eigen::Vector3d rhs = h.segment<3>(6 + 3 * l) - tau;
+    // lambda_l = (R B_J)^-T (h_l - tau_l) = R B_J^-T (h_l - tau_l), tau_l = motor - D dq_l
+    const Eigen::Vector3d rhs = h.segment<3>(6 + 3 * l) - (tau - damping_.cwiseProduct(dq));
     lambda[l] = x.R * J_body.transpose().partialPivLu().solve(rhs);
   }
   if (problems != nullptr) *problems = why;

@@ -3,8 +3,10 @@
 //   M(q) nudot + h(q, nu) = S^T tau + J_c^T lambda      (model/floating_base_dynamics.hpp)
 // the three rows of leg l read, with the leg's own acceleration neglected,
 //   h_l = tau_l + J_l^T lambda_l   =>   lambda_l = J_l^-T (h_l - tau_l) = -(J_l^T)^-1 (tau_l - h_l)
-// where h_l are leg l's rows of the bias forces (gravity, Coriolis, centrifugal) and J_l = R B_J
-// the foot Jacobian's leg columns (world frame). Only leg l's own contact enters its rows, so each
+// where h_l are leg l's rows of the bias forces (gravity, Coriolis, centrifugal), J_l = R B_J
+// the foot Jacobian's leg columns (world frame) and tau_l the torque that reaches the joint: the
+// motor's less the joint's viscous damping D dq_l (QuadrupedInertia::damping), a passive force
+// the model keeps out of h. Only leg l's own contact enters its rows, so each
 // foot is solved alone from a 3x3 system. lambda_l is the force the ground exerts on the foot,
 // world frame: its z component is the normal force on level ground.
 //
@@ -66,6 +68,7 @@ class FootForceFromTorque {
  private:
   model::QuadrupedDynamics dynamics_;
   FootForceParams params_;
+  Eigen::Vector3d damping_;  // D per joint of a leg [N m s/rad]
 };
 
 // det(J) / (|c_0| |c_1| |c_2|) in [0, 1] for a 3x3 J with columns c_i (0 when a column is zero).

@@ -20,6 +20,13 @@ KinematicDetector::KinematicDetector(const KinematicParams& p) : params_(p) {
     throw std::invalid_argument("kinematic: foot_radius must be >= 0 and finite");
   if (!(p.ground_tau >= 0.0 && std::isfinite(p.ground_tau)))
     throw std::invalid_argument("kinematic: ground_tau must be >= 0 and finite");
+  if (!(p.speed_tau >= 0.0 && std::isfinite(p.speed_tau)))
+    throw std::invalid_argument("kinematic: speed_tau must be >= 0 and finite");
+}
+
+void KinematicDetector::reset() {
+  has_ground_ = false;
+  has_v_.fill(false);
 }
 
 double KinematicDetector::groundHeight() const {
@@ -50,10 +57,16 @@ ContactEstimate KinematicDetector::update(const ContactSignals& s) {
       f.problem = "no leg kinematics";
     else if (!(foot.p_body.allFinite() && foot.v_body.allFinite()))
       f.problem = "kinematics not finite";
-    if (f.problem != nullptr) continue;
-    // v_f = v + R (omega x B_p_f + B_v_f): criterion 1's foot velocity, world frame
+    if (f.problem != nullptr) {
+      has_v_[i] = false;
+      continue;
+    }
+    // v_f = v + R (omega x B_p_f + B_v_f): criterion 1's foot velocity, world frame, low-passed
     const Eigen::Vector3d v_f = s.base.v + s.base.R * (s.gyro.cross(foot.p_body) + foot.v_body);
-    slow[i] = v_f.norm() < params_.v_thresh;
+    const double alpha = params_.speed_tau > 0.0 ? s.dt / (params_.speed_tau + s.dt) : 1.0;
+    v_bar_[i] = has_v_[i] ? (v_bar_[i] + alpha * (v_f - v_bar_[i])).eval() : v_f;
+    has_v_[i] = true;
+    slow[i] = v_bar_[i].norm() < params_.v_thresh;
     z[i] = (s.base.p + s.base.R * foot.p_body).z() - params_.foot_radius;
     z_low = std::min(z_low, z[i]);
   }

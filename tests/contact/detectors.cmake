@@ -4,3 +4,8 @@
 legkit_add_test(test_contact_detectors
                 SOURCES force_detectors_test.cpp kinematic_gait_fallback_test.cpp
                 LIBS legkit_contact legkit_sim LABELS "57.6")
+# Scored with eval/contact_scores.cpp (compiled in: it needs only the standard library), so the
+# numbers use `legkit study contact`'s definitions without linking legkit_eval.
+legkit_add_test(test_contact_detectors_physics
+                SOURCES detectors_physics_test.cpp ${PROJECT_SOURCE_DIR}/eval/contact_scores.cpp
+                LIBS legkit_contact legkit_physics LABELS "57.6;physics")

@@ -214,8 +214,8 @@ JointVector bentLegs() {
 }  // namespace
 
 TEST_CASE("force from joint torques inverts the leg rows of the equation of motion", "[57.6]") {
-  // Build tau from chosen world forces lambda_l with the dynamics themselves:
-  //   tau_l = h_l - J_l^T lambda_l   (nudot = 0),
+  // Build the motor torques from chosen world forces lambda_l with the dynamics themselves:
+  //   tau_l = h_l - J_l^T lambda_l + D dq_l   (nudot = 0; D the joint damping),
   // then the estimate must return lambda_l.
   const model::QuadrupedGeometry geo = model::QuadrupedGeometry::go2();
   const model::QuadrupedInertia inertia = model::QuadrupedInertia::go2();
@@ -244,8 +244,9 @@ TEST_CASE("force from joint torques inverts the leg rows of the equation of moti
   s.base.v = x.v;
   for (int l = 0; l < 4; ++l) {
     const model::ContactJacobian J = dyn.footJacobian(l, x);
-    s.tau.segment<3>(3 * l) =
-        h.segment<3>(6 + 3 * l) - J.middleCols<3>(6 + 3 * l).transpose() * lambda[l];
+    s.tau.segment<3>(3 * l) = h.segment<3>(6 + 3 * l) -
+                              J.middleCols<3>(6 + 3 * l).transpose() * lambda[l] +
+                              inertia.damping.cwiseProduct(x.dq.segment<3>(3 * l));
   }
   std::array<const char*, 4> why{};
   const auto f = ff.estimate(s, &why);
@@ -262,7 +263,8 @@ TEST_CASE("force from joint torques inverts the leg rows of the equation of moti
   for (int l = 0; l < 4; ++l)
     s.tau.segment<3>(3 * l) =
         h0.segment<3>(6 + 3 * l) -
-        dyn.footJacobian(l, x).middleCols<3>(6 + 3 * l).transpose() * lambda[l];
+        dyn.footJacobian(l, x).middleCols<3>(6 + 3 * l).transpose() * lambda[l] +
+        inertia.damping.cwiseProduct(x.dq.segment<3>(3 * l));
   s.base.valid = false;
   s.acc = x.R.transpose() * Eigen::Vector3d(0, 0, 9.81);
   const auto g = ff.estimate(s, &why);

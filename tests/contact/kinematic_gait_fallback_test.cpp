@@ -98,7 +98,10 @@ std::array<bool, 4> contacts(const ContactEstimate& e) {
 }  // namespace
 
 TEST_CASE("kinematic detector: contact needs the foot both still and at ground height", "[57.6]") {
-  KinematicDetector d;  // 0.1 m/s, 0.03 m
+  KinematicParams p;
+  p.v_thresh = 0.1;  // the raw criterion of the chapter: no low-pass
+  p.speed_tau = 0.0;
+  KinematicDetector d(p);  // 0.1 m/s, 0.03 m
   ContactSignals s = standing();
   s.dt = 0.001;
   CHECK(contacts(d.update(s)) == std::array<bool, 4>{true, true, true, true});
@@ -124,6 +127,29 @@ TEST_CASE("kinematic detector: contact needs the foot both still and at ground h
   s.base.v = Eigen::Vector3d(0, 0.5, 0);  // world +y = body +x
   for (int i = 0; i < 4; ++i) s.feet[i].v_body = Eigen::Vector3d(-0.5, 0, 0);
   CHECK(contacts(d.update(s)) == std::array<bool, 4>{true, true, true, true});
+}
+
+TEST_CASE("kinematic detector: the foot speed is low-passed with time constant speed_tau",
+          "[57.6]") {
+  KinematicDetector d;  // 0.2 m/s, 5 ms
+  ContactSignals s = standing();
+  s.dt = 0.001;
+  CHECK(d.update(s).feet[0].contact);
+  // FL starts moving at 0.5 m/s: the filtered speed is 0.5 (1 - (5/6)^n) after n samples
+  // (alpha = 1 ms / 6 ms), above 0.2 m/s from n = 3 on ((5/6)^3 = 0.579 < 0.6).
+  s.feet[0].v_body = Eigen::Vector3d(0.5, 0, 0);
+  CHECK(d.update(s).feet[0].contact);
+  CHECK(d.update(s).feet[0].contact);
+  CHECK_FALSE(d.update(s).feet[0].contact);
+  // A problem restarts the filter: the next usable sample is taken as it is.
+  s.feet[0].has_kinematics = false;
+  CHECK_FALSE(d.update(s).feet[0].usable());
+  s.feet[0].has_kinematics = true;
+  s.feet[0].v_body.setZero();
+  CHECK(d.update(s).feet[0].contact);
+  KinematicParams bad;
+  bad.speed_tau = -1.0;
+  CHECK_THROWS_AS(KinematicDetector(bad), std::invalid_argument);
 }
 
 TEST_CASE("kinematic detector: z_ground follows the judged-down feet, re-anchors after a step",
