@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "estimation/log_frontend.hpp"
 #include "sim/physics_simulator.hpp"
 
 namespace legkit::eval {
@@ -26,34 +27,6 @@ contact::BaseFeedback truthFeedback(const io::LogRow& row) {
   return b;
 }
 
-contact::ContactSignals signalsFromRow(const io::LogLayout& layout, const io::LogRow& row,
-                                       double dt, const model::QuadrupedKinematics& kinematics,
-                                       const contact::BaseFeedback& base) {
-  contact::ContactSignals s;
-  s.t = row.t;
-  s.dt = dt;
-  s.num_feet = model::kNumLegs;
-  s.gyro = row.gyro;
-  s.acc = row.acc;
-  s.base = base;
-  s.has_joints = layout.joints;
-  s.q = row.q;
-  s.dq = row.dq;
-  s.has_torque = layout.torque;
-  s.tau = row.tau;
-  for (int leg = 0; leg < model::kNumLegs; ++leg) {
-    contact::FootSignals& f = s.feet[leg];
-    if (layout.force) f.force = row.force[leg];
-    if (layout.joints) {
-      const Eigen::Vector3d q = row.q.segment<3>(3 * leg);
-      f.has_kinematics = true;
-      f.p_body = kinematics.footPosition(leg, q);
-      f.v_body = kinematics.footJacobian(leg, q) * row.dq.segment<3>(3 * leg);
-    }
-  }
-  return s;
-}
-
 void appendTrainingSamples(const io::Log& log, const contact::GaitSchedule* gait,
                            const model::QuadrupedKinematics& kinematics,
                            std::vector<contact::ContactFeatures>& samples,
@@ -65,11 +38,11 @@ void appendTrainingSamples(const io::Log& log, const contact::GaitSchedule* gait
         "columns");
   samples.reserve(samples.size() + model::kNumLegs * log.rows.size());
   labels.reserve(labels.size() + model::kNumLegs * log.rows.size());
+  const LogFrontend frontend(log.layout, kinematics);
   for (std::size_t k = 0; k < log.rows.size(); ++k) {
     const io::LogRow& row = log.rows[k];
     const double dt = k == 0 ? 0.0 : row.t - log.rows[k - 1].t;
-    const contact::ContactSignals s =
-        signalsFromRow(log.layout, row, dt, kinematics, truthFeedback(row));
+    const contact::ContactSignals s = frontend.signals(row, dt, truthFeedback(row));
     for (int leg = 0; leg < model::kNumLegs; ++leg) {
       samples.push_back(contact::contactFeatures(s, leg, gait));
       labels.push_back(row.gt_feet[leg].contact);

@@ -7,9 +7,10 @@
 // physics-ice (its 10 s, up to the fall), with seeds seed + 1000, + 1001, + 1002: an evaluation
 // that simulates with seeds below 1000 never scores the model on its own training data.
 //
-// Features as the detector computes them (contactFeatures), from the log's sensors: the foot
-// sensor's force, the foot speed from model::QuadrupedKinematics (FK, J dq), the gyro and the
-// base velocity and attitude, and the planned phase of the scenario's gait. One exception: the
+// Features as the detector computes them (contactFeatures) from what the run pipeline hands a
+// detector (LogFrontend::signals: the foot sensor's force, the legs' FK and J dq from
+// model::QuadrupedKinematics, the gyro), the base velocity and attitude, and the planned phase of
+// the scenario's gait. One exception: the
 // base velocity and attitude for TRAINING come from the log's ground truth (gt_v, gt_q), not
 // from an estimator, so that the fit does not depend on which filter ran. At evaluation time a
 // detector gets the estimator's previous estimate (BaseFeedback) and never the truth.
@@ -34,14 +35,8 @@ contact::GaitSchedule plannedGait(const sim::PhysicsScenario& scenario);
 // The base feedback of a perfect estimator: the row's true attitude and velocity (valid).
 contact::BaseFeedback truthFeedback(const io::LogRow& row);
 
-// What a detector sees at one row of a quadruped log (`layout` says which columns exist): force
-// (NaN without force columns), the legs' kinematics from q and dq, gyro and acc, joints and
-// torques, the given base feedback; dt since the previous row (0 at the first).
-contact::ContactSignals signalsFromRow(const io::LogLayout& layout, const io::LogRow& row,
-                                       double dt, const model::QuadrupedKinematics& kinematics,
-                                       const contact::BaseFeedback& base);
-
-// Appends one sample per foot and row of `log` (features with truthFeedback, phase from `gait`
+// Appends one sample per foot and row of `log` (features of LogFrontend::signals with
+// truthFeedback, phase from `gait`
 // or 0 when nullptr; label gt_feet[foot].contact). Throws std::invalid_argument for a log without
 // joints, force or contact_truth columns.
 void appendTrainingSamples(const io::Log& log, const contact::GaitSchedule* gait,

@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "estimation/contact/logistic_contact.hpp"
+#include "estimation/log_frontend.hpp"
 #include "eval/contact_training.hpp"
 #include "sim/physics_simulator.hpp"
 
@@ -25,7 +26,7 @@ Score evaluate(const contact::LogisticModel& model, const std::string& scenario,
   o.duration = duration;
   o.seed = seed;
   const io::Log log = sim::simulatePhysics(o).log;
-  const model::QuadrupedKinematics kin;
+  const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
   contact::LogisticContactDetector d(model, eval::plannedGait(o.scenario));
   Score s;
   int tp = 0, fp = 0, fn = 0;
@@ -33,7 +34,7 @@ Score evaluate(const contact::LogisticModel& model, const std::string& scenario,
     const io::LogRow& row = log.rows[k];
     const double dt = k == 0 ? 0.0 : row.t - log.rows[k - 1].t;
     const contact::ContactEstimate e =
-        d.update(eval::signalsFromRow(log.layout, row, dt, kin, eval::truthFeedback(row)));
+        d.update(frontend.signals(row, dt, eval::truthFeedback(row)));
     for (int leg = 0; leg < 4; ++leg) {
       if (!e.feet[leg].usable()) {
         ++s.problems;

@@ -10,6 +10,7 @@
 
 #include "allocation_counter.hpp"
 #include "estimation/contact/momentum_observer.hpp"
+#include "estimation/log_frontend.hpp"
 #include "eval/contact_training.hpp"
 #include "sim/physics_simulator.hpp"
 
@@ -76,14 +77,14 @@ struct Trace {
 };
 
 Trace observe(const io::Log& log, const MomentumObserverParams& params = {}) {
-  const model::QuadrupedKinematics kin(kGeometry);
+  const LogFrontend frontend(log.layout, model::QuadrupedKinematics(kGeometry));
   MomentumObserver obs(kGeometry, kInertia, params);
   Trace tr;
   for (std::size_t k = 0; k < log.rows.size(); ++k) {
     const io::LogRow& row = log.rows[k];
     const double dt = k == 0 ? 0.0 : row.t - log.rows[k - 1].t;
     const contact::ContactEstimate e =
-        obs.update(eval::signalsFromRow(log.layout, row, dt, kin, eval::truthFeedback(row)));
+        obs.update(frontend.signals(row, dt, eval::truthFeedback(row)));
     if (!e.feet[0].usable()) {
       ++tr.problems;
       continue;
