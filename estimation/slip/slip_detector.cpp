@@ -80,6 +80,9 @@ SlipDetector::SlipDetector(const SlipParams& params)
     throw std::invalid_argument(
         "SlipParams: anchor_window must be > 0 and max_anchor_age >= anchor_window, finite");
   }
+  if (params.confirm_samples < 1) {
+    throw std::invalid_argument("SlipParams: confirm_samples must be >= 1");
+  }
   if (!(params.inflate >= 1.0) || !std::isfinite(params.inflate)) {
     throw std::invalid_argument("SlipParams: inflate must be finite and >= 1");
   }
@@ -91,6 +94,8 @@ SlipDetector::SlipDetector(const SlipParams& params)
 void SlipDetector::reset() {
   anchored_ = false;
   anchor_t_ = last_t_ = 0.0;
+  exceeded_.fill(0);
+  common_exceeded_ = 0;
   v_imu_.setZero();
   anchor_cov_.setZero();
   anchor_att_.setZero();
@@ -142,7 +147,7 @@ SlipReport SlipDetector::check(const StepInput& in, const EstimateSample& x,
       f.S = P_vv + f.R;
     }
     f.d2 = mahalanobis2(f.residual, f.S);
-    f.slipping = f.d2 > threshold_;
+    f.exceeds = f.d2 > threshold_;
   }
 
   // Pairwise consistency: eps_ij = v_leg,i - v_leg,j against R_i + R_j.
@@ -163,11 +168,20 @@ SlipReport SlipDetector::check(const StepInput& in, const EstimateSample& x,
       for (int j = 0; j < report.num_feet; ++j) with_i += (j != i && disagree[i][j]) ? 1 : 0;
       if (with_i == others && report.inconsistent_pairs - with_i == 0) {
         report.outlier = report.feet[i].foot;
-        report.feet[i].slipping = true;
+        report.feet[i].exceeds = true;
         break;
       }
     }
   }
+  // Confirmation: exceeded at confirm_samples consecutive checks (a foot not checked starts over).
+  std::array<int, kMaxFeet> counts{};
+  for (int k = 0; k < report.num_feet; ++k) {
+    FootSlip& f = report.feet[k];
+    if (f.foot < 0 || f.foot >= kMaxFeet) continue;  // StepInput's contract: ids in [0, 8)
+    counts[f.foot] = f.exceeds ? exceeded_[f.foot] + 1 : 0;
+    f.slipping = counts[f.foot] >= params_.confirm_samples;
+  }
+  exceeded_ = counts;
   report.all_slipping = report.num_feet > 0 && report.numSlipping() == report.num_feet;
   checkCommon(in, x, P, report);
   return report;
@@ -184,32 +198,38 @@ void SlipDetector::checkCommon(const StepInput& in, const EstimateSample& x,
 
   bool fired = false;
   const double T = in.t - anchor_t_;
+  int exceeding = 0;
+  for (int k = 0; k < report.num_feet; ++k) exceeding += report.feet[k].exceeds ? 1 : 0;
   if (anchored_ && report.num_feet > 0) {
-    // The legs' common velocity: the mean over the feet not already slipping (all if none holds).
-    const bool use_all = report.numSlipping() == report.num_feet;
+    // The legs' common velocity: the mean over the feet that pass their own test (all if none).
+    const bool use_all = exceeding == report.num_feet;
     Eigen::Vector3d v_c = Eigen::Vector3d::Zero();
     Eigen::Matrix3d cov_c = Eigen::Matrix3d::Zero();
     int m = 0;
     for (int k = 0; k < report.num_feet; ++k) {
-      if (!use_all && report.feet[k].slipping) continue;
+      if (!use_all && report.feet[k].exceeds) continue;
       v_c += report.feet[k].v_leg;
       cov_c += report.feet[k].R;
       ++m;
     }
     v_c /= m;
-    cov_c /= double(m) * m;
+    cov_c /= m;  // the mean R_i, not R_i / m: the feet's errors of one instant are correlated
     const Eigen::Matrix3d g_x = lie::hat3(g);
     const double sa = params_.accel_sigma, sb = params_.accel_bias_sigma;
     const Eigen::Matrix3d cov_imu = anchor_cov_ +
                                     Eigen::Matrix3d::Identity() * (sa * sa * T + sb * sb * T * T) +
                                     T * T * g_x * anchor_att_ * g_x.transpose();
     report.common_d2 = mahalanobis2(v_c - v_imu_, cov_imu + cov_c);
-    fired = report.common_d2 > threshold_;
+    common_exceeded_ = report.common_d2 > threshold_ ? common_exceeded_ + 1 : 0;
+    fired = common_exceeded_ >= params_.confirm_samples;
+    report.imu_disagrees = fired;
     report.all_slipping = report.all_slipping || fired;
+  } else {
+    common_exceeded_ = 0;
   }
 
   // Renew the anchor while nothing slips (every anchor_window), or when it is too old anyway.
-  const bool quiet = !fired && report.numSlipping() == 0;
+  const bool quiet = !fired && exceeding == 0 && common_exceeded_ == 0;
   if (!anchored_ || (quiet && T >= params_.anchor_window) || T >= params_.max_anchor_age) {
     anchored_ = true;
     anchor_t_ = in.t;

@@ -11,15 +11,20 @@
 //   r_i = [v_leg,i]_x dtheta + dv - n_i,   H_i = [ [v_leg,i]_x   I   0 ]
 //   S_i = H_i P H_i^T + R_i,   d2_i = r_i^T S_i^-1 r_i  ~  chi2_3 when the foot holds,
 // P the filter's BaseCovariance and R_i from leg_odometry::baseVelocityCovariance. The foot is
-// slipping when d2_i > chi2_3(alpha) (11.345 at alpha = 0.99, exercise 57.7.1). A filter without
+// exceeding the test when d2_i > chi2_3(alpha) (11.345 at alpha = 0.99, exercise 57.7.1), and
+// slipping once it has exceeded it at confirm_samples consecutive checks: at 1 kHz a test of level
+// alpha = 0.99 alone flags 1 % of the samples of a foot that holds (about 10 false onsets per
+// second and foot); three samples in a row cut the dry trot's false alarms to a few per minute
+// (tests/slip/slip_physics_test.cpp) for 2 ms of delay. A filter without
 // attitude state (BaseCovariance::has_attitude false) has H_i = [0 I 0]: only P's v block enters.
 // v_hat is the estimate at x.t moved to the input's time with the IMU (v_hat + (R a_m + g) dt).
 //
 // Multi-foot consistency. Two feet that both hold agree: eps_ij = v_leg,i - v_leg,j with
 // covariance R_i + R_j (the filter's state cancels). With three or more stance feet, a foot that
 // disagrees with every other foot while all the others agree among themselves is the outlier
-// (SlipReport::outlier) and counts as slipping. With two feet (a trot's stance pair) a
-// disagreement cannot say which foot moved: only the per-foot residuals decide.
+// (SlipReport::outlier): that is evidence against it as an exceeded test is. With two feet (a
+// trot's stance pair) a disagreement cannot say which foot moved: only the per-foot residuals
+// decide.
 //
 // All feet slipping (57.7.2). If every foot slides together (a robot pushed on ice) the feet agree
 // with each other, and a filter that trusts them follows them: v_hat moves with v_leg and the
@@ -27,8 +32,10 @@
 // (v_a, P_vv at t_a, taken when no foot was slipping), the accelerometer alone gives
 //   v_imu(t) = v_a + sum (R a_m + g) dt,
 //   Cov = P_vv + (sigma_a^2 T + sigma_ba^2 T^2) I + T^2 [g]_x P_thth [g]_x^T,   T = t - t_a,
-// and the legs' common velocity v_c (the mean of the feet not slipping, covariance sum R_i / n^2)
-// is tested the same way: d2_c = (v_c - v_imu)^T (Cov + Cov_c)^-1 (v_c - v_imu) > chi2_3(alpha)
+// and the legs' common velocity v_c (the mean v_leg,i of the feet that pass their own test, all of
+// them if none does; covariance the mean R_i, as the feet's errors of one instant are correlated)
+// is tested the same way: d2_c = (v_c - v_imu)^T (Cov + Cov_c)^-1 (v_c - v_imu) > chi2_3(alpha) at
+// confirm_samples consecutive checks (SlipReport::imu_disagrees)
 // means every foot is moving with the ground (SlipReport::all_slipping). The anchor is renewed
 // every `anchor_window` seconds while nothing slips; while the legs disagree it is kept for at
 // most `max_anchor_age` (then the IMU-only velocity is too uncertain to accuse anything).
@@ -72,6 +79,8 @@ struct SlipParams {
   double anchor_window = 0.25;     // the trusted anchor is renewed this often [s]
   double max_anchor_age = 1.0;     // the longest IMU-only window [s]
   double inflate = 100.0;          // alpha_inflate of SlipReaction::kInflate (R_i <- R_i alpha)
+  // Consecutive checks a foot must exceed the test (or be the outlier) before it is slipping.
+  int confirm_samples = 3;
 };
 
 struct FootSlip {
@@ -81,7 +90,8 @@ struct FootSlip {
   Eigen::Matrix3d R = Eigen::Matrix3d::Zero();         // R_i = Cov(v_leg,i) [m^2/s^2]
   Eigen::Matrix3d S = Eigen::Matrix3d::Zero();         // H_i P H_i^T + R_i [m^2/s^2]
   double d2 = 0.0;                                     // r_i^T S_i^-1 r_i
-  bool slipping = false;  // d2 > chi2_3(alpha), or the multi-foot outlier
+  bool exceeds = false;   // this check: d2 > chi2_3(alpha), or the multi-foot outlier
+  bool slipping = false;  // exceeded at confirm_samples consecutive checks
 };
 
 struct SlipReport {
@@ -92,6 +102,7 @@ struct SlipReport {
   int outlier = -1;            // foot id of the multi-foot outlier, -1 if none
   int inconsistent_pairs = 0;  // pairs (i, j) with eps_ij beyond chi2_3(alpha)
   double common_d2 = 0.0;      // d2_c of the all-feet test (0 when it could not run)
+  bool imu_disagrees = false;  // d2_c > chi2_3(alpha): the legs' common velocity against the IMU
   double threshold = 0.0;      // chi2_3(alpha)
 
   // Whether foot id `foot` was checked and found slipping.
@@ -101,11 +112,12 @@ struct SlipReport {
 
 class SlipDetector {
  public:
-  // Throws std::invalid_argument for alpha outside (0, 1) or a negative or non-finite sigma,
-  // a non-positive window.
+  // Throws std::invalid_argument for alpha outside (0, 1), a negative or non-finite sigma (zero
+  // foot_velocity_sigma), a non-positive anchor_window or max_anchor_age < anchor_window,
+  // confirm_samples < 1 or inflate < 1.
   explicit SlipDetector(const SlipParams& params = {});
 
-  // Forgets the IMU-only anchor.
+  // Forgets the IMU-only anchor and the feet's consecutive counts.
   void reset();
   // The stance feet of `in` that carry v_body, against the estimate x (the filter's estimate of
   // the previous step) and its covariance P. Feet without v_body are not checked.
@@ -123,6 +135,8 @@ class SlipDetector {
   SlipParams params_;
   double threshold_;
   leg_odometry::FootVelocityNoise noise_;
+  std::array<int, kMaxFeet> exceeded_{};  // consecutive checks exceeded, by foot id
+  int common_exceeded_ = 0;               // the same for the all-feet test
   // The all-feet test's anchor: the last trusted velocity and what the IMU added since.
   bool anchored_ = false;
   double anchor_t_ = 0.0;

@@ -17,9 +17,16 @@ using Approx = Catch::Detail::Approx;
 
 namespace {
 
+// A foot slips at its first exceeded check (no confirmation).
+SlipParams instant() {
+  SlipParams p;
+  p.confirm_samples = 1;
+  return p;
+}
+
 // Parameters without the gyro term, so that R_i = foot_velocity_sigma^2 I exactly.
 SlipParams handParams() {
-  SlipParams p;
+  SlipParams p = instant();
   p.gyro_sigma = 0.0;
   p.foot_velocity_sigma = 0.05;
   return p;
@@ -133,7 +140,7 @@ TEST_CASE("H's attitude block and sign: d2 is chi2_3 when the error is drawn fro
   // The truth differs from the estimate by e ~ N(0, P) with strong attitude-velocity correlation,
   // R = Exp(dtheta) R_hat, v = v_hat + dv, and the foot holds in the truth. Kinematic noise ~ 0:
   // the residual is H e, and with the right H its d2 has chi2_3's mean 3 and tail 1 %.
-  SlipParams params;
+  SlipParams params = instant();
   params.gyro_sigma = 0.0;
   params.foot_velocity_sigma = 1e-5;
   SlipDetector detector(params);
@@ -182,7 +189,7 @@ TEST_CASE("H's attitude block and sign: d2 is chi2_3 when the error is drawn fro
 }
 
 TEST_CASE("four feet: the one slipping foot is the outlier", "[57.7][slip]") {
-  SlipDetector detector;
+  SlipDetector detector(instant());
   EstimateSample x;
   x.t = 0.0;
   x.v = Eigen::Vector3d(0.5, 0, 0);
@@ -220,6 +227,32 @@ TEST_CASE("four feet: the one slipping foot is the outlier", "[57.7][slip]") {
   const SlipReport trot = detector.check(pair, x, velocityOnly(1.0));
   CHECK(trot.inconsistent_pairs == 1);
   CHECK(trot.outlier == -1);
+}
+
+TEST_CASE("a foot slips after confirm_samples exceeded checks in a row", "[57.7][slip]") {
+  SlipDetector detector;  // confirm_samples = 3
+  REQUIRE(detector.params().confirm_samples == 3);
+  EstimateSample x;
+  x.v = Eigen::Vector3d(0.5, 0, 0);
+  const BaseCovariance P = velocityOnly(0.02);
+  const Eigen::Vector3d slide(0, 0.5, 0);
+  std::array<bool, 7> slipping{}, exceeds{};
+  // Foot 1 slides at checks 0, 1, 2, 3, holds at 4, slides at 5, 6.
+  for (int k = 0; k < 7; ++k) {
+    x.t = 0.001 * k;
+    const SlipReport r = detector.check(fourFeet(x.t, x.v, k == 4 ? -1 : 1, slide), x, P);
+    slipping[k] = r.slipping(1);
+    exceeds[k] = r.feet[1].exceeds;
+    CHECK_FALSE(r.slipping(0));
+  }
+  CHECK(exceeds == std::array<bool, 7>{true, true, true, true, false, true, true});
+  CHECK(slipping == std::array<bool, 7>{false, false, true, true, false, false, false});
+  CHECK_THROWS_AS(SlipDetector([] {
+                    SlipParams p;
+                    p.confirm_samples = 0;
+                    return p;
+                  }()),
+                  std::invalid_argument);
 }
 
 TEST_CASE("all feet slipping: the IMU disagrees with the legs (57.7.2)", "[57.7][slip]") {
@@ -276,7 +309,7 @@ TEST_CASE("reactions on the filter's input", "[57.7][slip]") {
 
   for (const SlipReaction reaction :
        {SlipReaction::kNone, SlipReaction::kInflate, SlipReaction::kDrop, SlipReaction::kImuOnly}) {
-    SlipGuard guard(SlipParams{}, reaction);
+    SlipGuard guard(instant(), reaction);
     std::optional<StepInput> storage;
     SlipReport report;
     // Nothing slips: the input itself, no copy.
@@ -309,7 +342,7 @@ TEST_CASE("reactions on the filter's input", "[57.7][slip]") {
   single.num_contacts = 1;
   EstimateSample still;
   for (const SlipReaction reaction : {SlipReaction::kDrop, SlipReaction::kImuOnly}) {
-    SlipGuard guard(SlipParams{}, reaction);
+    SlipGuard guard(instant(), reaction);
     std::optional<StepInput> storage;
     SlipReport report;
     CHECK(guard.apply(single, still, P, storage, &report).num_contacts == 0);
