@@ -10,10 +10,10 @@
 // Features as the detector computes them (contactFeatures) from what the run pipeline hands a
 // detector (LogFrontend::signals: the foot sensor's force, the legs' FK and J dq from
 // model::QuadrupedKinematics, the gyro), the base velocity and attitude, and the planned phase of
-// the scenario's gait. One exception: the
-// base velocity and attitude for TRAINING come from the log's ground truth (gt_v, gt_q), not
-// from an estimator, so that the fit does not depend on which filter ran. At evaluation time a
-// detector gets the estimator's previous estimate (BaseFeedback) and never the truth.
+// the scenario's gait. One exception: the base velocity and attitude for TRAINING come from the
+// log's ground truth (gt_v, gt_q), not from an estimator, so that the fit does not depend on
+// which filter ran. At evaluation time a detector gets the estimator's previous estimate
+// (BaseFeedback) and never the truth.
 #pragma once
 
 #include <vector>
@@ -36,9 +36,8 @@ contact::GaitSchedule plannedGait(const sim::PhysicsScenario& scenario);
 contact::BaseFeedback truthFeedback(const io::LogRow& row);
 
 // Appends one sample per foot and row of `log` (features of LogFrontend::signals with
-// truthFeedback, phase from `gait`
-// or 0 when nullptr; label gt_feet[foot].contact). Throws std::invalid_argument for a log without
-// joints, force or contact_truth columns.
+// truthFeedback, phase from `gait` or 0 when nullptr; label gt_feet[foot].contact). Throws
+// std::invalid_argument for a log without joint, force, ground-truth or contact_truth columns.
 void appendTrainingSamples(const io::Log& log, const contact::GaitSchedule* gait,
                            const model::QuadrupedKinematics& kinematics,
                            std::vector<contact::ContactFeatures>& samples,

@@ -92,3 +92,20 @@ TEST_CASE("trainContactModel without the force: a model for a robot without foot
   CHECK(s.problems == 0);
   CHECK(s.f1 > 0.94);
 }
+
+TEST_CASE("appendTrainingSamples needs the truth and the sensors", "[contact][logistic]") {
+  io::Log log;
+  log.layout.force = true;
+  log.layout.ground_truth = true;
+  log.rows.resize(3);
+  std::vector<contact::ContactFeatures> x;
+  std::vector<bool> y;
+  const model::QuadrupedKinematics kin;
+  CHECK_THROWS_AS(eval::appendTrainingSamples(log, nullptr, kin, x, y), std::invalid_argument);
+  log.layout.contact_truth = true;
+  eval::appendTrainingSamples(log, nullptr, kin, x, y);
+  CHECK(x.size() == 12);  // 3 rows, 4 feet
+  CHECK(y.size() == 12);
+  log.layout.force = false;
+  CHECK_THROWS_AS(eval::appendTrainingSamples(log, nullptr, kin, x, y), std::invalid_argument);
+}
