@@ -19,6 +19,13 @@ std::array<SchmittTrigger, kMaxFeet> triggersOf(const SchmittParams& p) {
 
 }  // namespace
 
+SchmittParams go2SchmittParams() {
+  SchmittParams p;
+  p.f_high = 25.0;
+  p.f_low = 10.0;
+  return p;
+}
+
 SchmittTrigger::SchmittTrigger(const SchmittParams& p)
     : f_high_(p.f_high), f_low_(p.f_low), t_on_(p.t_on), t_off_(p.t_off) {
   if (!(std::isfinite(p.f_high) && std::isfinite(p.f_low) && p.f_low <= p.f_high))

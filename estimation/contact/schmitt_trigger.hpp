@@ -24,6 +24,14 @@ struct SchmittParams {
   double negative_limit = -10.0;       // [N], see ForceChecks
 };
 
+// The kit's design for its Go2-class robot and foot sensors (what makeDetector uses): the
+// chapter's F_high = 50 N is above the 37 N one foot carries while the 15.2 kg robot stands on
+// four, so the chapter's defaults never see a stand. F_high = 25 N (two thirds of the standing
+// load, a third of a trot's 75 N), F_low = 10 N (3.5 sigma above an unloaded sensor's 3 +- 2 N),
+// T_on = T_off = 5 ms (< 0.1 x the trot's 300 ms stance). On the 10 s physics trot (seed 13):
+// F1 0.991, touchdown 5 ms late, no chatter (tests/contact/detectors_physics_test.cpp).
+SchmittParams go2SchmittParams();
+
 // One foot's trigger. The time a threshold has held counts the sample intervals dt from the first
 // sample beyond it (that sample's own dt included, as the chapter's code does); "longer than T"
 // allows 1 ns for rounding, so that five 1 ms samples hold for exactly 5 ms, not 5 ms + 1 ulp.

@@ -153,15 +153,11 @@ TEST_CASE("Schmitt on the foot sensor: F1 against the physics trot, and no chatt
           "[57.6][physics]") {
   const sim::PhysicsResult& run = trot();
   REQUIRE_FALSE(run.status.fell);
-  // The Go2 design (exercise 57.6.1's question): the chapter's F_high = 50 N is above what one
-  // foot of a 15.2 kg robot carries while it stands on four (m g / 4 = 37 N), so the chapter's
-  // thresholds never see the first second's stand. F_high = 25 N lies below that load (and far
-  // below the ~75 N of a trot's diagonal pair), F_low = 10 N is 3.5 sigma above an unloaded
-  // sensor's 3 +- 2 N, the holds stay 5 ms (< 0.1 x the 300 ms stance).
-  SchmittParams go2;
-  go2.f_high = 25.0;
-  go2.f_low = 10.0;
-  SchmittDetector schmitt(go2);
+  // The kit's Go2 design (go2SchmittParams: 25 / 10 N, 5 / 5 ms; exercise 57.6.1 asks for one):
+  // the chapter's F_high = 50 N is above what one foot of the 15.2 kg robot carries while it
+  // stands on four (m g / 4 = 37 N), so the chapter's thresholds never see the first second's
+  // stand.
+  SchmittDetector schmitt(go2SchmittParams());
   GrfThresholdDetector plain;  // 30 N
   const eval::ContactScores s = score(schmitt, run.log);
   const eval::ContactScores p = score(plain, run.log);

@@ -1,0 +1,58 @@
+#include "estimation/contact/detectors.hpp"
+
+#include <stdexcept>
+
+#include "estimation/contact/fallback_detector.hpp"
+#include "estimation/contact/gait_clock.hpp"
+
+namespace legkit::contact {
+
+std::vector<std::string> detectorNames() {
+  return {"gait-clock",    "grf-threshold",  "grf-threshold-torque",
+          "schmitt",       "schmitt-torque", "momentum-observer",
+          "probabilistic", "kinematic",      "fallback"};
+}
+
+std::unique_ptr<ContactDetector> makeDetector(const std::string& name, const DetectorContext& c) {
+  if (name == "gait-clock") {
+    if (!c.gait) throw std::invalid_argument("contact detector gait-clock needs a gait schedule");
+    return std::make_unique<GaitClockDetector>(*c.gait);
+  }
+  if (name == "grf-threshold" || name == "grf-threshold-torque") {
+    const ForceSource source =
+        name == "grf-threshold" ? ForceSource::kSensor : ForceSource::kJointTorque;
+    return std::make_unique<GrfThresholdDetector>(c.grf, source, c.geometry, c.inertia);
+  }
+  if (name == "schmitt")
+    return std::make_unique<SchmittDetector>(c.schmitt, ForceSource::kSensor, c.geometry,
+                                             c.inertia);
+  if (name == "schmitt-torque")
+    return std::make_unique<SchmittDetector>(c.schmitt_torque, ForceSource::kJointTorque,
+                                             c.geometry, c.inertia);
+  if (name == "momentum-observer")
+    return std::make_unique<MomentumObserver>(c.geometry, c.inertia, c.momentum);
+  if (name == "probabilistic") {
+    if (!c.logistic)
+      throw std::invalid_argument(
+          "contact detector probabilistic needs a trained logistic model "
+          "(eval/contact_training.hpp: trainContactModel)");
+    return std::make_unique<LogisticContactDetector>(*c.logistic, c.gait, c.probabilistic);
+  }
+  if (name == "kinematic") {
+    KinematicParams k = c.kinematic;
+    k.foot_radius = c.geometry.foot_radius;
+    return std::make_unique<KinematicDetector>(k);
+  }
+  if (name == "fallback") {
+    std::vector<std::unique_ptr<ContactDetector>> chain;
+    for (const char* n : {"schmitt", "schmitt-torque", "momentum-observer", "kinematic"})
+      chain.push_back(makeDetector(n, c));
+    if (c.gait) chain.push_back(makeDetector("gait-clock", c));
+    return std::make_unique<FallbackDetector>(std::move(chain));
+  }
+  std::string known;
+  for (const std::string& n : detectorNames()) known += (known.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown contact detector '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace legkit::contact
