@@ -9,4 +9,4 @@ legkit_add_test(test_contact_detectors
 # numbers use `legkit study contact`'s definitions without linking legkit_eval.
 legkit_add_test(test_contact_detectors_physics
                 SOURCES detectors_physics_test.cpp ${PROJECT_SOURCE_DIR}/eval/contact_scores.cpp
-                LIBS legkit_contact legkit_physics LABELS "57.6;physics")
+                LIBS legkit_contact_factory legkit_physics LABELS "57.6;physics")

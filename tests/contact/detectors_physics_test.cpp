@@ -8,8 +8,13 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <iostream>
+#include <limits>
+#include <memory>
+#include <string>
 #include <vector>
 
+#include "estimation/contact/detectors.hpp"
+#include "estimation/contact/fallback_detector.hpp"
 #include "estimation/contact/foot_force.hpp"
 #include "estimation/contact/grf_threshold.hpp"
 #include "estimation/contact/kinematic_detector.hpp"
@@ -208,4 +213,49 @@ TEST_CASE("detectors without a foot sensor on the physics trot", "[57.6][physics
   CHECK(k.f1 > 0.92);
   CHECK(k.chatter_per_min < 30.0);
   CHECK(k.touchdown_delay_mean < 35.0);
+}
+
+TEST_CASE("the recommended fallback chain on a trot whose foot sensors fail", "[57.6][physics]") {
+  // FR's sensor is lost (NaN) over [3, 5) s; RL's sticks at full scale (150 N) over [6, 8.5) s.
+  io::Log log = trot().log;
+  REQUIRE_FALSE(trot().status.fell);
+  int lost = 0;
+  for (io::LogRow& row : log.rows) {
+    if (row.t >= 3.0 && row.t < 5.0) {
+      row.force[1] = std::numeric_limits<double>::quiet_NaN();
+      ++lost;
+    }
+    if (row.t >= 6.0 && row.t < 8.5) row.force[2] = 150.0;
+  }
+  DetectorContext context;
+  const sim::PhysicsScenario scenario = sim::physicsScenarioByName("physics-trot");
+  GaitSchedule gait;
+  gait.period = scenario.gait.period;
+  gait.duty = scenario.gait.duty;
+  for (int i = 0; i < 4; ++i) gait.offset[i] = scenario.gait.offset[i];
+  gait.start = scenario.stand_time;
+  context.gait = gait;
+  const std::unique_ptr<ContactDetector> d = makeDetector("fallback", context);
+  const auto& chain = dynamic_cast<const FallbackDetector&>(*d);
+  const eval::ContactScores s = score(*d, log);  // and every answer usable
+
+  const FallbackReports& r = chain.reports();
+  // The first hand-over: FR at the first row of the loss, from the Schmitt trigger (0).
+  CHECK(r.first.foot == 1);
+  CHECK(r.first.t == Approx(3.0));
+  CHECK(r.first.detector == 0);
+  CHECK(std::string(r.first.problem) == "no force reading");
+  CHECK(r.failed[1][0] == lost);
+  CHECK(r.answered[1][1] == lost);  // schmitt-torque took every one of them
+  // RL: a saturated reading is a valid one for stuck_time = 1 s, then the sensor is stuck until
+  // the fault ends: the last hand-over is RL's, at the fault's last row.
+  CHECK(r.last.foot == 2);
+  CHECK(r.last.t == Approx(8.499));
+  CHECK(std::string(r.last.problem) == "force stuck at saturation");
+  CHECK(r.failed[2][0] == Approx(1500).margin(2));
+  for (int i = 0; i < 4; ++i) CHECK(r.undecided[i] == 0);
+  // The chain keeps answering: F1 stays near the sensor's 0.991 (schmitt-torque is late at
+  // touchdown during the 2 s loss; the stuck sensor says "contact" through RL's swings of its
+  // first second).
+  CHECK(s.f1 > 0.96);
 }
