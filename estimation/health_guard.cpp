@@ -64,6 +64,11 @@ void checkStepInput(const StepInput& in, int max_feet, const char* who) {
     if (seen[c.foot]) footFail("appears twice among the contacts");
     seen[c.foot] = true;
     if (!c.p_body.allFinite()) footFail("p_body is not finite");
+    if (!(c.probability >= 0.0 && c.probability <= 1.0)) {  // also NaN
+      std::ostringstream os;
+      os << "probability (p_c) must lie in [0, 1], got " << c.probability;
+      footFail(os.str());
+    }
     if (c.v_body && !c.v_body->allFinite()) footFail("v_body is not finite");
     if (!c.cov.allFinite()) footFail("covariance is not finite");
     if (!isSymmetric(c.cov)) footFail("covariance is not symmetric");
@@ -116,8 +121,7 @@ const StepInput& admitContacts(const StepInput& in, const InputLimits& limits, H
 bool isSane(const EstimateSample& x, const InputLimits& limits) {
   return std::isfinite(x.t) && x.q.coeffs().allFinite() &&
          std::abs(x.q.squaredNorm() - 1.0) < 1e-6 && x.v.allFinite() &&
-         x.v.norm() <= limits.speed_max && x.p.allFinite() &&
-         x.p.norm() <= limits.position_max;
+         x.v.norm() <= limits.speed_max && x.p.allFinite() && x.p.norm() <= limits.position_max;
 }
 
 bool HealthGuard::check(const EstimateSample& x, const InputLimits& limits) {

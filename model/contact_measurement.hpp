@@ -9,10 +9,14 @@
 namespace legkit {
 
 struct ContactMeasurement {
-  int foot = 0;                    // foot id (quadruped: 0 FL, 1 FR, 2 RL, 3 RR)
-  Eigen::Vector3d p_body;          // foot position in the body (IMU) frame [m]
-  Eigen::Matrix3d cov;             // its 3x3 covariance [m^2]
+  int foot = 0;                           // foot id (quadruped: 0 FL, 1 FR, 2 RL, 3 RR)
+  Eigen::Vector3d p_body;                 // foot position in the body (IMU) frame [m]
+  Eigen::Matrix3d cov;                    // its 3x3 covariance [m^2]
   std::optional<Eigen::Vector3d> v_body;  // optional foot velocity relative to the body [m/s]
+  // p_c, the probability that this foot is on the ground, in [0, 1] (section 57.6). The filters
+  // give a stance foot the process noise density of contact::softFootNoiseDensity (eq. Q_f of
+  // 57.6) between their stance and swing densities; 1 (a hard contact) leaves them unchanged.
+  double probability = 1.0;
 };
 
 }  // namespace legkit

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "estimation/contact/soft_contact.hpp"
 #include "lie/imu_dynamics.hpp"
 
 namespace legkit::invariant {
@@ -122,6 +123,7 @@ void Eskf::reset(const EstimateSample& x0) {
   diag.segment<3>(kBa).setConstant(variance(params_.sigma_accel_bias));
   P_ = diag.asDiagonal();
   in_contact_.fill(false);
+  probability_.fill(0.0);
   slots_.reset();
   startHealth(x0);
   t_ = x0.t;
@@ -155,10 +157,13 @@ void Eskf::predict(double dt) {
   addDiagonal(kP, var_a * dt * dt * dt / 3.0);
   P_.block<3, 3>(kV, kP).diagonal().array() += var_a * dt * dt / 2.0;
   P_.block<3, 3>(kP, kV).diagonal().array() += var_a * dt * dt / 2.0;
+  const double sw = params_.foot_swing_density;
   for (int i = 0; i < kFeet; ++i) {
-    const double sigma_d =
-        in_contact_[i] ? params_.foot_stance_density : params_.foot_swing_density;
-    addDiagonal(eskf::footIndex(i), sigma_d * sigma_d * dt);
+    // sigma_d^2: the swing density, or in contact the soft one of p_c (Q_f of 57.6)
+    const double density = in_contact_[i] ? contact::softFootNoiseDensity(
+                                                probability_[i], params_.foot_stance_density, sw)
+                                          : sw * sw;
+    addDiagonal(eskf::footIndex(i), density * dt);
   }
   addDiagonal(kBg, n.gyro_bias_random_walk * n.gyro_bias_random_walk * dt);
   addDiagonal(kBa, n.accel_bias_random_walk * n.accel_bias_random_walk * dt);
@@ -251,11 +256,14 @@ void Eskf::step(const StepInput& raw) {
   if (updated) inject(dx);
 
   std::array<bool, kFeet> stance{};
+  std::array<double, kFeet> probability{};
   for (const ContactMeasurement& c : in.stance()) {
     stance[c.foot] = true;
+    probability[c.foot] = c.probability;
     if (!in_contact_[c.foot]) initialiseFoot(c.foot, c);
   }
   in_contact_ = stance;
+  probability_ = probability;
   if (imu_admitted) {
     previous_ = in.imu;
     has_previous_ = true;

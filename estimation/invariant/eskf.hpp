@@ -35,7 +35,10 @@
 // sigma_a^2 [[dt, dt^2/2], [dt^2/2, dt^3/3]] on (dv, dp) (white acceleration integrated once and
 // twice); sigma_bg^2 dt, sigma_ba^2 dt on the biases; sigma_d^2 dt on each foot, with
 // sigma_d = foot_stance_density in stance (the foot may slip a little) and foot_swing_density in
-// swing (the foot moves freely). The noises are isotropic, so R_hat drops out of R_hat n_a.
+// swing (the foot moves freely); a stance foot of contact probability p_c (the previous sample's
+// ContactMeasurement::probability) gets the soft density of section 57.6,
+// p_c sigma_stance^2 + (1 - p_c) sigma_swing^2 (p_c = 1: the stance density exactly). The noises
+// are isotropic, so R_hat drops out of R_hat n_a.
 //
 // Measurement of a stance foot i: the leg kinematics give the foot in the body frame,
 //   z_i = h_i(x) + n,   h_i(x) = R^T (d_i - p),   n ~ N(0, Cov_i)   (the ContactMeasurement).
@@ -153,6 +156,7 @@ class Eskf final : public Estimator {
   eskf::State x_;
   eskf::Matrix27 P_ = eskf::Matrix27::Identity();  // covariance of the error dx
   std::array<bool, eskf::kFeet> in_contact_{};
+  std::array<double, eskf::kFeet> probability_{};  // p_c of the feet in contact (previous sample)
   double t_ = 0.0;
   model::ImuReading previous_;
   bool has_previous_ = false;

@@ -7,6 +7,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "estimation/contact/soft_contact.hpp"
 #include "lie/imu_dynamics.hpp"
 
 namespace legkit::invariant {
@@ -118,8 +119,9 @@ InvariantEkf::InvariantEkf(const InvariantEkfParams& params) : params_(params) {
       !nonNegative(n.gyro_bias_random_walk) || !nonNegative(n.accel_bias_random_walk)) {
     throw std::invalid_argument("InvariantEkf: IMU noise densities must be finite and >= 0");
   }
-  if (!nonNegative(params.foot_density)) {
-    throw std::invalid_argument("InvariantEkf: foot_density must be finite and >= 0");
+  if (!nonNegative(params.foot_density) || !nonNegative(params.foot_swing_density)) {
+    throw std::invalid_argument(
+        "InvariantEkf: foot_density and foot_swing_density must be finite and >= 0");
   }
   if (!positive(params.sigma_attitude) || !positive(params.sigma_velocity) ||
       !positive(params.sigma_position) || !positive(params.sigma_gyro_bias) ||
@@ -138,6 +140,7 @@ void InvariantEkf::reset(const EstimateSample& x0) {
   b_g_.setZero();
   b_a_.setZero();
   column_of_foot_.fill(-1);
+  probability_.fill(0.0);
   t_ = x0.t;
   previous_ = model::ImuReading{};
   has_previous_ = false;
@@ -209,12 +212,19 @@ void InvariantEkf::propagateCovariance(const inekf::Transition& Phi, double dt) 
   const model::ImuNoise& n = params_.imu;
   const double var_g = n.gyro_noise_density * n.gyro_noise_density;
   const double var_a = n.accel_noise_density * n.accel_noise_density;
-  const double var_d = params_.foot_density * params_.foot_density;
+  // sigma_d^2 of the foot in column 2 + i: the slip density, softened by its p_c (Q_f of 57.6)
+  std::array<double, inekf::kMaxFeet> var_d{};
+  for (int foot = 0; foot < inekf::kMaxFeet; ++foot) {
+    const int col = column_of_foot_[foot];
+    if (col < 0) continue;
+    var_d[col - 2] = contact::softFootNoiseDensity(probability_[foot], params_.foot_density,
+                                                   params_.foot_swing_density);
+  }
   const auto addDiagonal = [&](int at, double variance) {
     P.template block<3, 3>(at, at).diagonal().array() += variance;
   };
   const auto addFootAndBiasNoise = [&] {
-    for (int i = 0; i < Feet; ++i) addDiagonal(9 + 3 * i, var_d * dt);  // slip random walk
+    for (int i = 0; i < Feet; ++i) addDiagonal(9 + 3 * i, var_d[i] * dt);  // slip random walk
     addDiagonal(Nav, n.gyro_bias_random_walk * n.gyro_bias_random_walk * dt);
     addDiagonal(Nav + 3, n.accel_bias_random_walk * n.accel_bias_random_walk * dt);
   };
@@ -273,6 +283,7 @@ void InvariantEkf::correct(const StepInput& in) {
   const Matrix3 R_touchdown = predicted ? R_predicted : X_.R();
   for (const ContactMeasurement& c : in.stance()) {
     if (column_of_foot_[c.foot] < 0) addFoot(c, R_touchdown);
+    probability_[c.foot] = c.probability;
   }
 }
 

@@ -61,7 +61,11 @@
 // (RossHartley/invariant-ekf, InEKF::CorrectKinematics) uses the attitude from before the
 // correction, R_hat-; then rho_d = rho_p + R_hat- n + (R_hat- - R_hat) R^T (d - p): an error of
 // one attitude correction times the leg length that P does not contain (kPredicted reproduces
-// it). A stance foot's slip random walk sigma_d enters through Q_d.
+// it). A stance foot's slip random walk sigma_d enters through Q_d; a held foot whose contact
+// probability p_c (its ContactMeasurement::probability at the previous sample) is below one gets
+// the soft density of section 57.6, p_c sigma_d^2 + (1 - p_c) sigma_swing^2 (p_c = 1: sigma_d^2
+// exactly). This filter holds no swing feet, so sigma_swing (foot_swing_density) serves only
+// there.
 //
 // covariance() maps xi to the kit's convention (R = Exp(dtheta) R_hat, v = v_hat + dv,
 // p = p_hat + dp) to first order: dtheta = -phi, dv = -(rho_v - [v_hat]_x phi),
@@ -129,6 +133,9 @@ struct InvariantEkfParams {
   // A stance foot's slip random walk [m/sqrt(s)]. The simulated feet do not slip: a small
   // allowance, as in the ESKF.
   double foot_density = 1e-3;
+  // A swing foot's random walk [m/sqrt(s)], the other end of the soft density of a held foot with
+  // p_c < 1 (file comment); the ESKF's and the TSIF's swing density.
+  double foot_swing_density = 2.0;
   // Prior at reset, standard deviations in the kit's convention (mapped into xi at reset).
   double sigma_attitude = 0.01;    // [rad] per axis, world frame
   double sigma_velocity = 0.05;    // [m/s]
@@ -200,6 +207,7 @@ class InvariantEkf final : public Estimator {
   Eigen::Vector3d b_a_ = Eigen::Vector3d::Zero();
   Covariance P_ = Covariance::Identity(15, 15);
   std::array<int, inekf::kMaxFeet> column_of_foot_{};  // -1: not held
+  std::array<double, inekf::kMaxFeet> probability_{};  // p_c of each held foot (previous sample)
   double t_ = 0.0;
   model::ImuReading previous_;
   bool has_previous_ = false;

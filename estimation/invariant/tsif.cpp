@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "estimation/contact/soft_contact.hpp"
 #include "lie/imu_dynamics.hpp"
 
 namespace legkit::invariant {
@@ -160,7 +161,7 @@ void shareBias(int b, Matrix27& H11, Matrix27& H12, Matrix27& H22, Vector27& b1,
 // (the information on an unobservable position after minutes). A foot that touched down (no
 // information on x_k) has no between-residual that says anything: its rows are left out.
 Matrix27 betweenMarginal(const Matrix27& H_prior, const ImuResidual& e, const model::ImuNoise& n,
-                         double dt, const std::array<double, kFeet>& foot_density,
+                         double dt, const std::array<double, kFeet>& foot_variance_density,
                          const std::array<bool, kFeet>& forgotten) {
   const Matrix3 I = Matrix3::Identity();
   Matrix27 Lambda = H_prior;
@@ -183,7 +184,7 @@ Matrix27 betweenMarginal(const Matrix27& H_prior, const ImuResidual& e, const mo
   Q.block<3, 3>(kBa, kBa) = n.accel_bias_random_walk * n.accel_bias_random_walk * dt * I;
   for (int i = 0; i < kFeet; ++i) {
     J0.block<3, 3>(footIndex(i), footIndex(i)) = -I;
-    Q.block<3, 3>(footIndex(i), footIndex(i)) = foot_density[i] * foot_density[i] * dt * I;
+    Q.block<3, 3>(footIndex(i), footIndex(i)) = foot_variance_density[i] * dt * I;
   }
   Matrix27 M = Q;
   M.noalias() += J0 * P0 * J0.transpose();
@@ -317,12 +318,18 @@ void Tsif::step(const StepInput& raw) {
 
   // Weights of this step.
   const Matrix15 W_imu = imuWeight(params_.imu, dt);
-  std::array<double, kFeet> foot_density{};  // of the foot residual d_{k+1} - d_k
-  std::array<double, kFeet> w_c{};           // its weight: w_c I = (density^2 dt)^-1 I
+  // sigma_d^2 of the foot residual d_{k+1} - d_k [m^2/s]: the swing density, or for a stance foot
+  // the soft one of its contact probability p_c (Q_f of 57.6; p_c = 1: the stance density).
+  std::array<double, kFeet> foot_variance_density{};
+  std::array<double, kFeet> w_c{};  // its weight: w_c I = (sigma_d^2 dt)^-1 I
   std::array<bool, kFeet> touched_down{};
+  const double sw = params_.foot_swing_density;
   for (int i = 0; i < kFeet; ++i) {
-    foot_density[i] = contact[i] ? params_.foot_stance_density : params_.foot_swing_density;
-    w_c[i] = 1.0 / (foot_density[i] * foot_density[i] * dt);
+    foot_variance_density[i] = contact[i]
+                                   ? contact::softFootNoiseDensity(contact[i]->probability,
+                                                                   params_.foot_stance_density, sw)
+                                   : sw * sw;
+    w_c[i] = 1.0 / (foot_variance_density[i] * dt);
     touched_down[i] = contact[i] && !in_contact_[i];
   }
   std::array<Eigen::Matrix3d, kFeet> W_kin{};  // Cov_i^-1 of the kinematics of stance feet
@@ -424,7 +431,7 @@ void Tsif::step(const StepInput& raw) {
   x_ = x1;
   // The new information: S again, but in covariance form (betweenMarginal), where rounding does
   // not eat the small information of the unobservable states.
-  Lambda_ = betweenMarginal(H_prior, e, params_.imu, dt, foot_density, touched_down);
+  Lambda_ = betweenMarginal(H_prior, e, params_.imu, dt, foot_variance_density, touched_down);
   Lambda_ += H_kin;
   // That information is in the tangent at x1 before its step; moved to the tangent at x1 (+) dx1
   // (the ESKF's reset): dtheta+ = G dtheta, G = I - [dtheta1 / 2]_x, so Lambda <- G^-T Lambda G^-1.

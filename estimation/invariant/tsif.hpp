@@ -60,13 +60,16 @@
 //
 // Contacts. A stance foot's residual d_{k+1} - d_k has the small density foot_stance_density
 // (slip); a swing foot gets the large foot_swing_density, so it keeps a state but barely
-// constrains anything. A foot that touches down is re-initialised: it is marginalised out of
-// Lambda_k and left with no information at all, its mean is set from the kinematics,
-// d = p + R p_body, and this step's kinematics residual alone decides where it is (the same as
-// the ESKF's touchdown, which copies the state's uncertainty into the new foot). An earlier
-// version gave the new foot a weak prior (1 m) instead: information the robot does not have,
-// since its mean comes from the estimate. At eight touchdowns a second it added up, and over
-// 300 s made the filter over-confident in position (ANEES/dof 3.5 on 2 runs; chapter 57.10).
+// constrains anything. Between the two, a stance foot of contact probability p_c
+// (ContactMeasurement::probability, this sample's) gets the soft density of section 57.6,
+// p_c sigma_stance^2 + (1 - p_c) sigma_swing^2: the residual's weight follows p_c continuously. A
+// foot that touches down is re-initialised: it is marginalised out of Lambda_k and left with no
+// information at all, its mean is set from the kinematics, d = p + R p_body, and this step's
+// kinematics residual alone decides where it is (the same as the ESKF's touchdown, which copies the
+// state's uncertainty into the new foot). An earlier version gave the new foot a weak prior (1 m)
+// instead: information the robot does not have, since its mean comes from the estimate. At eight
+// touchdowns a second it added up, and over 300 s made the filter over-confident in position
+// (ANEES/dof 3.5 on 2 runs; chapter 57.10).
 //
 // At the first sample (dt = 0, no previous IMU reading) there is no pair to solve: the filter
 // stores the reading and places the feet that touch down, forgotten, at d = p + R p_body, with

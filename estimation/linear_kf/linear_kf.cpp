@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "estimation/contact/soft_contact.hpp"
 #include "estimation/leg_odometry/base_velocity.hpp"
 
 namespace legkit::linear_kf {
@@ -82,9 +83,12 @@ Matrix6 navigationNoise(double dt, const Eigen::Matrix3d& Sigma_u) {
   return Q;
 }
 
-double footNoiseVariance(double dt, bool in_stance, const ProcessNoise& noise) {
-  const double sigma_d = in_stance ? noise.foot_stance_density : noise.foot_swing_density;
-  return sigma_d * sigma_d * dt;  // random walk: sigma_d^2 dt
+double footNoiseVariance(double dt, bool in_stance, const ProcessNoise& noise, double p_c) {
+  const double sw = noise.foot_swing_density;
+  // random walk: sigma_d^2 dt, the stance density softened by p_c (Q_f of 57.6)
+  const double density =
+      in_stance ? contact::softFootNoiseDensity(p_c, noise.foot_stance_density, sw) : sw * sw;
+  return density * dt;
 }
 
 ProcessModel processModel(double dt, const ContactMask& contact, const ProcessNoise& noise) {
@@ -168,6 +172,7 @@ void LinearKf::reset(const EstimateSample& x0) {
       Eigen::Matrix<double, 3 * kFeet, 1>::Constant(sf2);
   a_w_.setZero();
   previous_contact_.fill(false);
+  previous_probability_.fill(0.0);
   has_previous_ = false;
   t_ = x0.t;
   slots_.reset();
@@ -188,7 +193,11 @@ void LinearKf::step(const StepInput& raw) {
   const Eigen::Matrix3d Sigma_theta =
       params_.model_attitude_error ? attitude_.attitudeCovariance() : Eigen::Matrix3d::Zero();
   ContactMask contact{};
-  for (const ContactMeasurement& c : in.stance()) contact[c.foot] = true;
+  std::array<double, kFeet> probability{};
+  for (const ContactMeasurement& c : in.stance()) {
+    contact[c.foot] = true;
+    probability[c.foot] = c.probability;
+  }
   // The velocity measurement needs this sample's rate: the admitted one, else the held one.
   const bool velocity = params_.use_leg_velocity && in.dt > 0.0 && (imu_admitted || has_previous_);
   const Eigen::Vector3d* w_m = velocity ? (imu_admitted ? &in.imu.w_m : &previous_.w_m) : nullptr;
@@ -199,6 +208,7 @@ void LinearKf::step(const StepInput& raw) {
     a_w_ += (x_.segment<3>(kV) - v_before - a_w_ * in.dt) / T;
   }
   previous_contact_ = contact;
+  previous_probability_ = probability;
   if (imu_admitted) {
     previous_ = in.imu;
     has_previous_ = true;
@@ -234,7 +244,8 @@ void LinearKf::predict(double dt, const Eigen::Vector3d& f_w) {
   const ProcessNoise noise = params_.processNoise();
   for (int i = 0; i < kFeet; ++i) {
     const int d = footIndex(i);
-    P_.block<3, 3>(d, d).diagonal().array() += footNoiseVariance(dt, previous_contact_[i], noise);
+    P_.block<3, 3>(d, d).diagonal().array() +=
+        footNoiseVariance(dt, previous_contact_[i], noise, previous_probability_[i]);
   }
 }
 

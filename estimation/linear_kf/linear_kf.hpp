@@ -21,7 +21,10 @@
 //     density 2 tau C, so Sigma_u gets 2 tau [f_w]_x Sigma_theta [f_w]_x^T / dt as well;
 //   - feet: sigma_d^2 dt I per foot (a random walk), with the density scheduled by contact: small
 //     in stance (the foot may slip a little), large in swing (the foot moves freely). Q over the
-//     interval (t_{k-1}, t_k] uses the contact flags of sample k-1, known when it starts.
+//     interval (t_{k-1}, t_k] uses the contact flags of sample k-1, known when it starts. A stance
+//     foot with contact probability p_c (ContactMeasurement::probability) gets the soft density
+//     of section 57.6, Q_f = [p_c sigma_stance^2 + (1 - p_c) sigma_swing^2] I dt; p_c = 1 is the
+//     hard stance density exactly.
 // Because F is the identity plus one dt block, F P F^T is done as two block additions (rows then
 // columns of p get dt times those of v), never as an 18 x 18 product.
 //
@@ -131,8 +134,9 @@ Eigen::Matrix<double, 6, 3> inputMatrix(double dt);
 // Q's (p, v) block: B Sigma_u B^T for an input covariance Sigma_u (sigma_a^2 / dt I for the
 // accelerometer noise alone).
 Matrix6 navigationNoise(double dt, const Eigen::Matrix3d& Sigma_u);
-// Q's block of one foot is this times I: sigma_d^2 dt with the stance or swing density.
-double footNoiseVariance(double dt, bool in_stance, const ProcessNoise& noise);
+// Q's block of one foot is this times I: sigma_d^2 dt with the swing density, or in stance the
+// soft density of contact probability p_c (eq. Q_f of 57.6; p_c = 1: the stance density).
+double footNoiseVariance(double dt, bool in_stance, const ProcessNoise& noise, double p_c = 1.0);
 
 // H_i = [-I 0 ... I (columns of foot i) ... 0]. Throws std::invalid_argument for i outside 0..3.
 Matrix3x18 footMeasurementMatrix(int i);
@@ -236,6 +240,7 @@ class LinearKf final : public Estimator {
   Eigen::Vector3d a_w_ = Eigen::Vector3d::Zero();  // low-passed world acceleration of the base
   Matrix18 P_ = Matrix18::Identity();
   ContactMask previous_contact_{};
+  std::array<double, kFeet> previous_probability_{};  // p_c of the stance feet of sample k-1
   model::ImuReading previous_;
   bool has_previous_ = false;
   double t_ = 0.0;
