@@ -1,6 +1,5 @@
 #include "estimation/slip/slip_detector.hpp"
 
-#include <Eigen/Cholesky>
 #include <cmath>
 #include <lie/so3.hpp>
 #include <limits>
@@ -19,11 +18,16 @@ double chi2Cdf3(double x) {
   return std::erf(std::sqrt(x / 2.0)) - std::sqrt(2.0 * x / pi) * std::exp(-x / 2.0);
 }
 
-// r^T S^-1 r for a symmetric positive definite S (+inf when S does not factorise).
+// r^T S^-1 r for a symmetric positive definite S, by the closed-form inverse (adjugate over the
+// determinant, upper triangle read); +inf when a leading minor is not positive.
 double mahalanobis2(const Eigen::Vector3d& r, const Eigen::Matrix3d& S) {
-  const Eigen::LLT<Eigen::Matrix3d> llt(S);
-  if (llt.info() != Eigen::Success) return std::numeric_limits<double>::infinity();
-  return r.dot(llt.solve(r));
+  const double a = S(0, 0), b = S(0, 1), c = S(0, 2), d = S(1, 1), e = S(1, 2), f = S(2, 2);
+  const double A = d * f - e * e, B = c * e - b * f, C = b * e - c * d;  // first adjugate row
+  const double minor2 = a * d - b * b, det = a * A + b * B + c * C;
+  if (!(a > 0.0 && minor2 > 0.0 && det > 0.0)) return std::numeric_limits<double>::infinity();
+  const double D = a * f - c * c, E = b * c - a * e;
+  const double x = r(0), y = r(1), z = r(2);
+  return (A * x * x + D * y * y + minor2 * z * z + 2.0 * (B * x * y + C * x * z + E * y * z)) / det;
 }
 
 void checkNonNegative(double value, const char* name) {
@@ -183,13 +187,13 @@ SlipReport SlipDetector::check(const StepInput& in, const EstimateSample& x,
   }
   exceeded_ = counts;
   report.all_slipping = report.num_feet > 0 && report.numSlipping() == report.num_feet;
-  checkCommon(in, x, P, report);
+  checkCommon(in, x, R, P, report);
   return report;
 }
 
 void SlipDetector::checkCommon(const StepInput& in, const EstimateSample& x,
-                               const BaseCovariance& P, SlipReport& report) {
-  const Eigen::Matrix3d R = x.q.normalized().toRotationMatrix();
+                               const Eigen::Matrix3d& R, const BaseCovariance& P,
+                               SlipReport& report) {
   const Eigen::Vector3d g = model::gravity();
   if (anchored_ && in.t > last_t_) {
     v_imu_ += (R * in.imu.a_m + g) * (in.t - last_t_);  // v_imu += (R a_m + g) dt

@@ -129,8 +129,9 @@ class SlipDetector {
   double threshold() const { return threshold_; }
 
  private:
-  void checkCommon(const StepInput& in, const EstimateSample& x, const BaseCovariance& P,
-                   SlipReport& report);
+  // The all-feet test (IMU against the legs) and its anchor; R is x's attitude.
+  void checkCommon(const StepInput& in, const EstimateSample& x, const Eigen::Matrix3d& R,
+                   const BaseCovariance& P, SlipReport& report);
 
   SlipParams params_;
   double threshold_;
