@@ -1,7 +1,10 @@
 // Section 57.6, methods 2 and 3: the GRF threshold and the Schmitt trigger on hand-made force
 // traces (switch times, hold times, chatter), every problem a force reading can have, and the
 // force from joint torques against the equation of motion it inverts.
+#include <rapidcheck.h>
+#include <rapidcheck/catch.h>
 #include <catch2/catch.hpp>
+
 #include <cmath>
 #include <limits>
 #include <random>
@@ -122,6 +125,41 @@ TEST_CASE("Schmitt suppresses the chatter a plain threshold shows on a noisy for
   // The force passes 50 N near sample 121 (20.8 of the 50 ramp samples); +5 ms hold, +-noise.
   CHECK(touchdown > 121);
   CHECK(touchdown < 135);
+}
+
+TEST_CASE("Schmitt trigger on random force traces", "[57.6]") {
+  // A random trace of readings in [0, 100] N, runs of 1..15 samples at one level, dt = 1 ms.
+  // Every switch on is preceded by more than T_on of readings above F_high, every switch off by
+  // more than T_off below F_low; and the trigger never toggles more often than a plain threshold
+  // inside its band (between two of its toggles the force crosses the whole band, so the plain
+  // threshold toggles too).
+  rc::prop("holds before every switch, fewer toggles than the plain threshold", [](unsigned seed) {
+    std::mt19937 gen(seed);
+    std::uniform_real_distribution<double> level(0.0, 100.0);
+    std::uniform_int_distribution<int> run(1, 15);
+    std::vector<double> f;
+    while (f.size() < 2000) f.insert(f.end(), run(gen), level(gen));
+    SchmittParams p;  // 50 / 20 N, 5 / 5 ms
+    SchmittTrigger s(p);
+    int toggles = 0, plain_toggles = 0;
+    bool plain = false;
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      const bool before = s.state();
+      const bool after = s.update(f[k], 0.001);
+      const bool now_plain = f[k] > 35.0;
+      plain_toggles += now_plain != plain;
+      plain = now_plain;
+      if (after == before) continue;
+      ++toggles;
+      // Held for more than 5 ms: this sample and the five before it.
+      RC_ASSERT(k >= 5);
+      for (std::size_t j = k - 5; j <= k; ++j) {
+        const bool held = after ? f[j] > 50.0 : f[j] < 20.0;
+        RC_ASSERT(held);
+      }
+    }
+    RC_ASSERT(toggles <= plain_toggles);
+  });
 }
 
 TEST_CASE("GRF threshold: c = F > F_threshold, strictly", "[57.6]") {
