@@ -10,6 +10,9 @@
 //    true slides are not false); the all-feet test never fires;
 //  - physics-ice-push, 5 s (every foot on ice, pushed sideways at 3 s): every foot slides from
 //    3.093 s, the all-feet test (57.7.2) fires at 3.116 s (23 ms) and never before the push;
+//  - terrain (TerrainClassifier on the detector's flags and the true ground forces): physics-trot
+//    normal (mu_hat 0.51, lower bound 0.60, true 0.6), physics-ice-push ice (mu_hat 0.090, true
+//    0.1); physics-ice, whose patch is under one foot only, normal (mu_hat 0.36);
 //  - the filter's velocity RMSE with the reactions: physics-ice none 0.072, drop 0.043 m/s;
 //    physics-ice-push none 0.079, imu-only 0.047 m/s.
 #include <algorithm>
@@ -21,10 +24,12 @@
 #include "estimation/invariant/eskf.hpp"
 #include "estimation/log_frontend.hpp"
 #include "estimation/slip/slip_guard.hpp"
+#include "estimation/slip/terrain.hpp"
 #include "model/quadruped.hpp"
 #include "sim/physics_simulator.hpp"
 
 using namespace legkit;  // NOLINT(google-build-using-namespace)
+using Approx = Catch::Detail::Approx;
 
 namespace {
 
@@ -126,6 +131,21 @@ Alarms alarms(const Replay& r) {
   return a;
 }
 
+// The terrain class at the end of a replay, from the detector's slip flags and the true ground
+// forces (|f_t| along x: only its magnitude matters).
+slip::TerrainClassifier terrain(const Replay& r) {
+  slip::TerrainClassifier c;
+  std::array<Eigen::Vector3d, io::kNumLegs> f;
+  for (std::size_t k = 0; k < r.reports.size(); ++k) {
+    const io::LogRow& row = r.log->rows[k];
+    for (int i = 0; i < io::kNumLegs; ++i) {
+      f[i] = Eigen::Vector3d(row.gt_feet[i].tangential_force, 0.0, row.gt_feet[i].normal_force);
+    }
+    c.update(r.reports[k], f.data(), io::kNumLegs, k == 0 ? 0.0 : row.t - r.log->rows[k - 1].t);
+  }
+  return c;
+}
+
 // Onsets of the all-feet test (SlipReport::imu_disagrees).
 std::vector<double> allFeetOnsets(const Replay& r) {
   std::vector<double> t;
@@ -174,6 +194,16 @@ TEST_CASE("physics-ice: every true slip detected within 10 ms; slip handling hel
               ice.velocity_rmse, inflate.velocity_rmse, drop.velocity_rmse);
   CHECK(drop.velocity_rmse < 0.8 * ice.velocity_rmse);
   CHECK(inflate.velocity_rmse < 0.8 * ice.velocity_rmse);
+  const slip::TerrainClassifier t = terrain(ice);
+  std::printf(
+      "physics-ice terrain %s: mu_hat %.3f from %d onsets, lower bound %.3f, %.2f slips/s, "
+      "slipping %.3f of stance\n",
+      slip::terrainClassName(t.terrain()), t.frictionEstimate(), t.onsets(), t.frictionLowerBound(),
+      t.slipRate(), t.slipFraction());
+  // The patch is under the FR foot's path only: the other feet's touchdown slides are at mu 0.6.
+  CHECK(t.terrain() == slip::TerrainClass::kNormal);
+  CHECK(t.frictionEstimate() < 0.5);
+  CHECK(t.frictionLowerBound() <= 0.6 * 1.05);
 }
 
 TEST_CASE("physics-trot (dry): false alarms below 20 per minute, the all-feet test silent",
@@ -186,7 +216,17 @@ TEST_CASE("physics-trot (dry): false alarms below 20 per minute, the all-feet te
   std::printf("physics-trot 30 s: %d detections, %d false (%.1f per minute); all-feet onsets %zu\n",
               a.episodes, a.false_alarms, a.false_alarms / minutes, all.size());
   CHECK(a.false_alarms / minutes < 20.0);
+  const slip::TerrainClassifier t = terrain(dry);
+  std::printf(
+      "physics-trot terrain %s: mu_hat %.3f from %d onsets, lower bound %.3f, %.2f slips/s, "
+      "slipping %.3f of stance\n",
+      slip::terrainClassName(t.terrain()), t.frictionEstimate(), t.onsets(), t.frictionLowerBound(),
+      t.slipRate(), t.slipFraction());
   CHECK(all.empty());
+  CHECK(t.terrain() == slip::TerrainClass::kNormal);  // mu 0.6
+  CHECK(t.frictionEstimate() > 0.4);
+  CHECK(t.frictionEstimate() < 0.7);
+  CHECK(t.frictionLowerBound() <= 0.6 * 1.05);
 }
 
 TEST_CASE("physics-ice-push: every foot slides and the IMU sees it (57.7.2)",
@@ -212,6 +252,15 @@ TEST_CASE("physics-ice-push: every foot slides and the IMU sees it (57.7.2)",
   CHECK(onsets.front() >= truth_start);
   CHECK(onsets.front() <= truth_start + 0.05);
 
+  const slip::TerrainClassifier t = terrain(none);
+  std::printf(
+      "physics-ice-push terrain %s: mu_hat %.3f from %d onsets, lower bound %.3f, %.2f "
+      "slips/s, slipping %.3f of stance\n",
+      slip::terrainClassName(t.terrain()), t.frictionEstimate(), t.onsets(), t.frictionLowerBound(),
+      t.slipRate(), t.slipFraction());
+  CHECK(t.terrain() == slip::TerrainClass::kIce);  // mu 0.1 everywhere
+  CHECK(t.frictionEstimate() == Approx(0.1).margin(0.03));
+  CHECK(t.frictionLowerBound() <= 0.1 * 1.05);
   const Replay imu_only = replay(log, slip::SlipReaction::kImuOnly);
   std::printf("physics-ice-push ESKF velocity RMSE: none %.4f, imu-only %.4f m/s\n",
               none.velocity_rmse, imu_only.velocity_rmse);
