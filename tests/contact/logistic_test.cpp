@@ -93,19 +93,25 @@ TEST_CASE("logistic contact detector: p_c, hysteresis, problems, no allocation",
   LogisticModel m;
   m.w = Eigen::Vector4d(0.0, 1.0, -1.0, 0.0);  // z = F / 10 - |v| / 0.1
   m.scale = Eigen::Vector3d(10.0, 0.1, 1.0);
-  LogisticContactDetector d(m);  // hysteresis 0.1: on above 0.6, off below 0.4
+  LogisticContactDetector d(m);  // hysteresis 0.4: on above 0.9, off below 0.1
   CHECK(d.name() == "probabilistic");
   const auto p = [&](double f, double v) { return d.update(oneFoot(f, v)).feet[0]; };
-  FootContact c = p(20.0, 0.1);  // z = 2 - 1 = 1
+  FootContact c = p(20.0, 0.1);  // z = 2 - 1 = 1: p = 0.73, not enough to touch down
   REQUIRE(c.usable());
   CHECK(c.probability == Approx(sigma(1.0)));
-  CHECK(c.contact);
+  CHECK_FALSE(c.contact);
   CHECK(c.force == 20.0);
-  c = p(0.0, 0.0);  // p = 0.5: inside the band, stays in contact
-  CHECK(c.probability == Approx(0.5));
+  CHECK(p(30.0, 0.0).contact);  // z = 3: p = 0.95
+  c = p(0.0, 0.1);              // p = sigma(-1) = 0.27: inside the band, stays in contact
+  CHECK(c.probability == Approx(sigma(-1.0)));
   CHECK(c.contact);
-  CHECK_FALSE(p(0.0, 0.1).contact);  // p = sigma(-1) = 0.27
-  CHECK_FALSE(p(0.0, 0.0).contact);  // 0.5 again: stays out
+  CHECK_FALSE(p(0.0, 0.3).contact);  // p = sigma(-3) = 0.05
+  CHECK_FALSE(p(0.0, 0.0).contact);  // 0.5: stays out
+  LogisticContactDetector plain(m, std::nullopt, LogisticParams{0.0});
+  CHECK(plain.update(oneFoot(20.0, 0.1)).feet[0].contact);  // p_c > 0.5
+  CHECK_FALSE(plain.update(oneFoot(0.0, 0.1)).feet[0].contact);
+  CHECK_THROWS_AS(LogisticContactDetector(m, std::nullopt, LogisticParams{0.5}),
+                  std::invalid_argument);
   d.reset();
 
   CHECK(std::string(p(std::nan(""), 0.0).problem) == "force is NaN");
