@@ -61,22 +61,19 @@ std::array<Eigen::Vector3d, model::kNumLegs> FootForceFromTorque::estimate(
   else if (s.num_feet != model::kNumLegs)
     all = "joints not the quadruped's";
   else if (!s.gyro.allFinite() || (s.base.valid && !(s.base.R.allFinite() && s.base.v.allFinite())))
-    all = "joint state not finite";
+    all = "base state not finite";
 
   model::FloatingBaseState x;
   if (all == nullptr && !state(s, x)) all = "no attitude";
   model::GeneralizedVector h = model::GeneralizedVector::Zero();
   if (all == nullptr) {
-    const bool joints_finite = s.q.allFinite() && s.dq.allFinite();
-    if (!joints_finite) {
-      // RNEA mixes every joint into the base rows only; a leg's rows see the base and that leg.
-      // Zero the non-finite legs' joints for h, and mark them below.
-      for (int l = 0; l < model::kNumLegs; ++l)
-        if (!(s.q.segment<3>(3 * l).allFinite() && s.dq.segment<3>(3 * l).allFinite())) {
-          x.q.segment<3>(3 * l).setZero();
-          x.dq.segment<3>(3 * l).setZero();
-        }
-    }
+    // A leg's rows of h depend on the base and that leg only: a leg with a non-finite joint
+    // state enters h with zeros (it gets its problem below), the others are unaffected.
+    for (int l = 0; l < model::kNumLegs; ++l)
+      if (!(s.q.segment<3>(3 * l).allFinite() && s.dq.segment<3>(3 * l).allFinite())) {
+        x.q.segment<3>(3 * l).setZero();
+        x.dq.segment<3>(3 * l).setZero();
+      }
     h = dynamics_.biasForces(x);
   }
 

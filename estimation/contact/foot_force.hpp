@@ -49,8 +49,8 @@ class FootForceFromTorque {
   //   "no joint angles"            signals.has_joints is false
   //   "no joint torques"           signals.has_torque is false
   //   "joints not the quadruped's" signals.num_feet is not 4
-  //   "joint state not finite"     a NaN or infinite q or dq of that leg (or of the base rates,
-  //                                which every leg's h uses)
+  //   "base state not finite"     a NaN or infinite gyro, or base R or v when it is valid
+  //   "joint state not finite"     a NaN or infinite q or dq of that leg
   //   "joint torque not finite"    a NaN or infinite tau of that leg
   //   "no attitude"                no valid base estimate and no usable accelerometer reading
   //   "leg singular"               the Jacobian ratio above is below min_jacobian_ratio

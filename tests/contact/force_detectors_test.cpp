@@ -345,6 +345,9 @@ TEST_CASE("force from joint torques: a leg that cannot be solved says why", "[57
   CHECK(reason(0) == "joint state not finite");
   CHECK(reason(3).empty());
   s.dq(0) = 0.0;
+  s.gyro.y() = kNaN;
+  CHECK(reason(3) == "base state not finite");
+  s.gyro.y() = 0.0;
   s.has_torque = false;
   CHECK(reason(3) == "no joint torques");
   s.has_torque = true;
