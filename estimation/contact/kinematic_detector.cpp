@@ -92,8 +92,8 @@ ContactEstimate KinematicDetector::update(const ContactSignals& s) {
   }
   if (n_down > 0) {
     // z_ground moves toward the judged-down feet's mean, time constant ground_tau
-    const double alpha = s.dt > 0.0 ? s.dt / (params_.ground_tau + s.dt) : 0.0;
-    z_ground_ += (params_.ground_tau > 0.0 ? alpha : 1.0) * (z_down_sum / n_down - z_ground_);
+    const double alpha = params_.ground_tau > 0.0 ? s.dt / (params_.ground_tau + s.dt) : 1.0;
+    z_ground_ += alpha * (z_down_sum / n_down - z_ground_);
   } else if (std::isfinite(z_slow_low)) {
     z_ground_ = z_slow_low;  // re-anchor on the lowest stationary foot (judged from next sample)
   }
