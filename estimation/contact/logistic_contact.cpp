@@ -41,6 +41,10 @@ LogisticContactDetector::LogisticContactDetector(const LogisticModel& model,
         "probabilistic: the model uses the gait phase but no gait schedule was given");
   if (!(params.hysteresis >= 0.0 && params.hysteresis < 0.5))
     throw std::invalid_argument("probabilistic: hysteresis must be in [0, 0.5)");
+  // The weights in raw units, so that update() needs no division: a_i = w_i / scale_i,
+  // b' = b - sum a_i mean_i.
+  a_ = model.w.tail<3>().cwiseQuotient(model.scale);
+  b_ = model.w[0] - a_.dot(model.mean);
 }
 
 void LogisticContactDetector::reset() {
@@ -83,7 +87,11 @@ ContactEstimate LogisticContactDetector::update(const ContactSignals& signals) {
         continue;
       }
     }
-    const double p_c = contactProbability(model_, x);
+    double z = b_;  // b' + a . x over the features the model uses
+    if (model_.usesForce()) z += a_[0] * x.force;
+    if (model_.usesFootSpeed()) z += a_[1] * x.foot_speed;
+    if (model_.usesPhase()) z += a_[2] * x.phase;
+    const double p_c = 1.0 / (1.0 + std::exp(-z));
     if (!std::isfinite(p_c)) {  // an infinite force: sigma of inf - inf
       c.problem = "force is NaN";
       continue;

@@ -83,6 +83,8 @@ class LogisticContactDetector : public ContactDetector {
   LogisticModel model_;
   std::optional<GaitSchedule> gait_;
   LogisticParams params_;
+  Eigen::Vector3d a_;  // the weights in raw units (force, foot speed, phase)
+  double b_;           // the bias in raw units
   std::array<bool, kMaxFeet> contact_{};
 };
 
