@@ -6,6 +6,7 @@
 #include <lie/so3.hpp>
 #include <random>
 
+#include "allocation_counter.hpp"
 #include "estimation/slip/plane_fit.hpp"
 #include "estimation/slip/slip_guard.hpp"
 #include "estimation/slip/terrain.hpp"
@@ -293,6 +294,57 @@ TEST_CASE("all feet slipping: the IMU disagrees with the legs (57.7.2)", "[57.7]
   CHECK_FALSE(any);
 }
 
+TEST_CASE("a common slide slower than the IMU window can show is not seen (57.7.2's limit)",
+          "[57.7][slip]") {
+  // With the defaults the all-feet test needs |v_c - v_imu| above about
+  // sqrt(11.345 (R_i + P_vv + ...)) = 0.19 m/s per axis (R_i = 0.05^2, P_vv = 0.01^2 here), and
+  // the anchor is renewed every 0.25 s while nothing exceeds: a slide that gains less than 0.19 m/s
+  // in 0.25 s (about 0.75 m/s^2) stays hidden; 1 m/s^2 is seen.
+  const BaseCovariance P = velocityOnly(0.01);
+  for (const double a : {0.4, 1.0}) {
+    SlipDetector detector;
+    EstimateSample x;  // follows the legs, which slide with the body: v = 0
+    bool seen = false;
+    for (int k = 0; k <= 2500; ++k) {
+      const double t = 0.001 * k;
+      StepInput in = fourFeet(t, Eigen::Vector3d::Zero());
+      if (t >= 1.0) in.imu.a_m.y() += a;
+      x.t = t - 0.001;
+      seen = seen || detector.check(in, x, P).imu_disagrees;
+    }
+    INFO("a = " << a << " m/s^2");
+    CHECK(seen == (a > 0.75));
+  }
+}
+
+TEST_CASE("the slip check, the guard and the plane fit never allocate", "[57.7][slip]") {
+  SlipGuard guard(SlipParams{}, SlipReaction::kImuOnly);
+  TerrainClassifier terrain;
+  const std::optional<BaseCovariance> P = velocityOnly(0.02);
+  std::optional<StepInput> storage;
+  SlipReport report;
+  EstimateSample x;
+  x.v = Eigen::Vector3d(0.5, 0, 0);
+  const std::array<Eigen::Vector3d, 4> forces = {
+      Eigen::Vector3d(10, 0, 100), Eigen::Vector3d(10, 0, 100), Eigen::Vector3d(10, 0, 100),
+      Eigen::Vector3d(10, 0, 100)};
+  std::vector<StepInput> inputs;
+  for (int k = 0; k < 100; ++k) {
+    inputs.push_back(fourFeet(0.001 * k, x.v, k % 10 < 5 ? 2 : -1, Eigen::Vector3d(0.4, 0, 0)));
+  }
+  const long before = legkit::test::allocationCount();
+  int dropped = 0;
+  for (const StepInput& in : inputs) {
+    x.t = in.t - 0.001;
+    dropped += 4 - guard.apply(in, x, P, storage, &report).num_contacts;
+    terrain.update(report, forces.data(), 4, 0.001);
+    dropped += fitGroundPlane(kFeet.data(), 4).status == GroundPlane::kOk ? 0 : 1000;
+  }
+  CHECK(legkit::test::allocationCount() == before);
+  CHECK(dropped > 0);
+  CHECK(dropped < 1000);
+}
+
 TEST_CASE("reactions on the filter's input", "[57.7][slip]") {
   CHECK(slipReactionByName("none") == SlipReaction::kNone);
   CHECK(slipReactionByName("inflate") == SlipReaction::kInflate);
@@ -488,4 +540,15 @@ TEST_CASE("terrain classes from force and slip streams", "[57.7][terrain]") {
   c.reset();
   CHECK(c.stanceTime() == 0.0);
   CHECK_THROWS_AS(TerrainClassifier(TerrainParams{0.5, 0.3}), std::invalid_argument);
+
+  // On a slope the forces split along the ground's normal: a force along it has no f_t.
+  TerrainClassifier slope;
+  const Eigen::Vector3d n = Eigen::Vector3d(-0.3, 0.0, 1.0).normalized();
+  slope.setGroundNormal(n);
+  const std::array<Eigen::Vector3d, 1> along = {Eigen::Vector3d(100.0 * n)};
+  slope.update(stance(false), along.data(), 1, 0.01);
+  CHECK(slope.frictionLowerBound() == Approx(0.0).margin(1e-12));
+  const std::array<Eigen::Vector3d, 1> level = {Eigen::Vector3d(0.0, 0.0, 100.0)};
+  slope.update(stance(false), level.data(), 1, 0.01);
+  CHECK(slope.frictionLowerBound() == Approx(0.3));  // tan of the slope angle
 }
