@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "estimation/slip/slip_detector.hpp"
 #include "eval/consistency.hpp"
 #include "ex57_7_1.hpp"
 #include "exercises/exercise_check.hpp"
@@ -139,4 +140,58 @@ TEST_CASE("57.7.1 one false alarm in a hundred, and the slipping foot found",
     REQUIRE(v.feet[i].slipping == (i == 2));
   }
   REQUIRE_NEAR(v.feet[2].d2, 25.0, 1e-9);
+}
+
+TEST_CASE("57.7.1 d2 and the verdict are the kit's slip detector's", "[ex57.7.1][hint 1]") {
+  // legkit::slip::SlipDetector (estimation/slip/slip_detector.hpp), deciding on one check, on two
+  // stance feet of a filter with a random covariance; foot 1 slides 0.3 m/s backwards. Your d2
+  // from the residual, the Jacobian H_i = [[v_leg,i]_x, I, 0] and the leg noise R_i the kit used
+  // must be the kit's.
+  std::mt19937 gen(5772);
+  legkit::StepInput in;
+  in.t = 2.0;
+  in.dt = 0.001;
+  in.imu.w_m = Eigen::Vector3d(0.1, -0.2, 0.05);
+  in.imu.a_m = Eigen::Vector3d(0.0, 0.0, 9.81);
+  in.num_contacts = 2;
+  const Eigen::Vector3d v_base(0.5, 0.0, 0.0);
+  for (int i = 0; i < 2; ++i) {
+    legkit::ContactMeasurement& c = in.contacts[i];
+    c.foot = i;
+    c.p_body = Eigen::Vector3d(i == 0 ? 0.19 : -0.19, i == 0 ? 0.14 : -0.14, -0.3);
+    c.cov = 1e-6 * Eigen::Matrix3d::Identity();
+    // A foot that holds: v_body = -(w x p) - v_base (level base, R = I).
+    c.v_body = Eigen::Vector3d(-in.imu.w_m.cross(c.p_body) - v_base);
+  }
+  *in.contacts[1].v_body += Eigen::Vector3d(0.3, 0.0, 0.0);  // v_leg,1 = v_base - 0.3 x
+  legkit::EstimateSample x;
+  x.t = in.t;
+  x.v = v_base + Eigen::Vector3d(0.01, -0.02, 0.0);
+  legkit::BaseCovariance cov;
+  cov.P = randomSpd<9>(gen, 1e-3);
+  // One check decides (the kit confirms a slip over 3 consecutive checks by default: at 1 kHz a
+  // 1 % test alone would flag 10 samples a second).
+  legkit::slip::SlipParams params;
+  params.confirm_samples = 1;
+  legkit::slip::SlipDetector kit(params);
+  const legkit::slip::SlipReport report = kit.check(in, x, cov);
+  REQUIRE(report.num_feet == 2);
+  std::array<FootResidual, 2> feet;
+  for (int i = 0; i < 2; ++i) {
+    const legkit::slip::FootSlip& k = report.feet[i];
+    feet[i].foot = k.foot;
+    feet[i].r = k.residual;
+    const Eigen::Vector3d& u = k.v_leg;
+    feet[i].H.leftCols<3>() << 0.0, -u.z(), u.y(), u.z(), 0.0, -u.x(), -u.y(), u.x(), 0.0;
+    feet[i].H.middleCols<3>(3).setIdentity();
+    feet[i].R = k.R;
+  }
+  const ex57_7_1::SlipVerdict v = ex57_7_1::detectSlip(feet.data(), 2, cov.P, 0.99);
+  for (int i = 0; i < 2; ++i) {
+    INFO("foot " << i << ": the kit's d2 " << report.feet[i].d2);
+    REQUIRE_REL(v.feet[i].d2, report.feet[i].d2, 1e-9);
+    REQUIRE(v.feet[i].slipping == report.feet[i].slipping);
+  }
+  REQUIRE_FALSE(v.feet[0].slipping);
+  REQUIRE(v.feet[1].slipping);
 }
