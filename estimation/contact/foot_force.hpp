@@ -14,9 +14,13 @@
 // pitch from the accelerometer (a standing robot measures R^T (0, 0, g); yaw is set to 0, which
 // changes neither the z component nor the leg rows of h); omega from the gyro; v from the estimate
 // or 0. What the model leaves out shows up as force: the leg's acceleration (a swing leg that
-// brakes reads tens of newtons), joint friction and damping, the torque noise mapped through
-// J^-T. Near a straight knee J is singular and J^-T amplifies every torque error without bound:
-// that foot gets the problem "leg singular" instead of a huge or NaN force.
+// brakes reads tens of newtons), joint friction, the torque noise mapped through
+// J^-T. Measured (tests/contact/detectors_physics_test.cpp, seed 13): standing, within 0.56 N of
+// the true normal force on average and the four summing to m g within 0.03 N on average; on the
+// 10 s trot, |f_z - f_n| in stance has median 1.0 N and 95th percentile 17 N, and a
+// swing foot reads 17 N (median) up to 65 N where the truth is 0. Near a straight knee J is
+// singular and J^-T amplifies every torque error without bound: that foot gets the problem "leg
+// singular" instead of a huge or NaN force.
 //
 // Cost: one h(q, nu) by RNEA for the whole robot (microseconds, bench/bench_contact.cpp) plus four
 // 3x3 solves. No allocation.
