@@ -164,13 +164,20 @@ SlipReport SlipDetector::check(const StepInput& in, const EstimateSample& x,
       report.inconsistent_pairs += d ? 1 : 0;
     }
   }
-  // The outlier: disagrees with every other foot while those all agree (needs >= 3 feet).
+  // The outlier: disagrees with every other foot while those all agree, among themselves and with
+  // the filter (none of them exceeds its own test: two feet sliding together must not outvote the
+  // one that holds). Needs >= 3 feet.
   if (report.num_feet >= 3) {
     for (int i = 0; i < report.num_feet; ++i) {
       const int others = report.num_feet - 1;
       int with_i = 0;
-      for (int j = 0; j < report.num_feet; ++j) with_i += (j != i && disagree[i][j]) ? 1 : 0;
-      if (with_i == others && report.inconsistent_pairs - with_i == 0) {
+      bool others_pass = true;
+      for (int j = 0; j < report.num_feet; ++j) {
+        if (j == i) continue;
+        with_i += disagree[i][j] ? 1 : 0;
+        others_pass = others_pass && !report.feet[j].exceeds;
+      }
+      if (with_i == others && report.inconsistent_pairs - with_i == 0 && others_pass) {
         report.outlier = report.feet[i].foot;
         report.feet[i].exceeds = true;
         break;

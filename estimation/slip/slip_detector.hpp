@@ -20,8 +20,10 @@
 //
 // Multi-foot consistency. Two feet that both hold agree: eps_ij = v_leg,i - v_leg,j with
 // covariance R_i + R_j (the filter's state cancels). With three or more stance feet, a foot that
-// disagrees with every other foot while all the others agree among themselves is the outlier
-// (SlipReport::outlier): evidence against it, as an exceeded test is. With two feet (a trot's
+// disagrees with every other foot while all the others agree among themselves and with the filter
+// (none exceeds its own test) is the outlier (SlipReport::outlier): evidence against it, as an
+// exceeded test is. Without the second condition two feet sliding together would outvote the one
+// that holds. With two feet (a trot's
 // stance pair) a disagreement cannot say which foot moved: only the per-foot residuals decide.
 //
 // All feet slipping (57.7.2). If every foot slides together (a robot pushed on ice) the feet agree

@@ -1,6 +1,8 @@
 // Section 57.7: the slip detector's residual, covariance and chi-square test with hand values, the
 // attitude block of H checked by sampling, the multi-foot outlier on four feet, the all-feet test
 // (IMU against the legs), the reactions on a StepInput, the ground plane and the terrain classes.
+#include <rapidcheck.h>
+#include <rapidcheck/catch.h>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <lie/so3.hpp>
@@ -222,6 +224,16 @@ TEST_CASE("four feet: the one slipping foot is the outlier", "[57.7][slip]") {
   two.contacts[3] = footGiving(3, kFeet[3], Eigen::Vector3d(0.5, -0.4, 0),
                                Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero());
   CHECK(detector.check(two, x, velocityOnly(1.0)).outlier == -1);
+  // Three feet, two of them sliding together: the one that holds is not outvoted.
+  StepInput together = fourFeet(0.0035, x.v, 0, Eigen::Vector3d(0, 0.5, 0));
+  together.contacts[1] = footGiving(1, kFeet[1], x.v + Eigen::Vector3d(0, 0.5, 0),
+                                    Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero());
+  together.num_contacts = 3;
+  const SlipReport majority = detector.check(together, x, velocityOnly(0.02));
+  CHECK(majority.outlier == -1);
+  CHECK(majority.slipping(0));
+  CHECK(majority.slipping(1));
+  CHECK_FALSE(majority.slipping(2));
   // Two stance feet (a trot): a disagreement cannot name the foot.
   StepInput pair = fourFeet(0.004, x.v, 0, Eigen::Vector3d(0.3, 0, 0));
   pair.num_contacts = 2;
@@ -473,6 +485,70 @@ TEST_CASE("ground plane: exact plane, least squares and degenerate footholds", "
   bad[1].x() = std::nan("");
   CHECK_THROWS_AS(fitGroundPlane(bad.data(), 3), std::invalid_argument);
   CHECK_THROWS_AS(fitGroundPlane(nullptr, 3), std::invalid_argument);
+}
+
+namespace {
+
+// A number in [lo, hi] on a grid of 2001 values (RapidCheck shrinks it towards lo).
+double genIn(double lo, double hi) {
+  return lo + (hi - lo) * (*rc::gen::inRange(0, 2001)) / 2000.0;
+}
+
+}  // namespace
+
+TEST_CASE("ground plane: any plane through 3..8 spread footholds is recovered", "[57.7][terrain]") {
+  rc::prop("exact plane", [] {
+    const double a = genIn(-1.0, 1.0), b = genIn(-0.3, 0.3), c = genIn(-0.3, 0.3);
+    const int n = *rc::gen::inRange(3, 9);
+    std::array<Eigen::Vector3d, 8> feet{};
+    // Feet on a circle of radius 0.3 m (spread >= 0.3 / 2 for 3 or more equally spaced points),
+    // turned and shifted at random.
+    const double turn = genIn(0.0, 6.283), x0 = genIn(-5.0, 5.0), y0 = genIn(-5.0, 5.0);
+    for (int i = 0; i < n; ++i) {
+      const double angle = turn + 6.283185307179586 * i / n;
+      const double x = x0 + 0.3 * std::cos(angle), y = y0 + 0.3 * std::sin(angle);
+      feet[i] = Eigen::Vector3d(x, y, a + b * x + c * y);
+    }
+    const GroundPlane g = fitGroundPlane(feet.data(), n);
+    RC_ASSERT(g.status == GroundPlane::kOk);
+    RC_ASSERT(std::abs(g.a - a) < 1e-9);
+    RC_ASSERT(std::abs(g.b - b) < 1e-9);
+    RC_ASSERT(std::abs(g.c - c) < 1e-9);
+    RC_ASSERT(g.rms < 1e-9);
+    RC_ASSERT(std::abs(g.normal.dot(Eigen::Vector3d(1.0, 0.0, b))) < 1e-9);  // normal to the plane
+  });
+}
+
+TEST_CASE("drop keeps exactly the feet that do not slip, in order", "[57.7][slip]") {
+  rc::prop("drop", [] {
+    const int n = *rc::gen::inRange(1, 9);
+    const int slipping_mask = *rc::gen::inRange(0, 1 << n);
+    EstimateSample x;
+    x.v = Eigen::Vector3d(0.4, 0.0, 0.0);
+    StepInput in;
+    for (int i = 0; i < n; ++i) {
+      const bool slips = (slipping_mask >> i) & 1;
+      const Eigen::Vector3d p(0.2 * (i % 2 ? 1 : -1), 0.05 * i, -0.3);
+      in.contacts[i] = footGiving(7 - i, p, x.v + Eigen::Vector3d(0.0, slips ? 0.5 : 0.0, 0.0),
+                                  Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero());
+      in.normal_force[i] = 10.0 * i;
+    }
+    in.num_contacts = n;
+    SlipGuard guard(instant(), SlipReaction::kDrop);
+    std::optional<StepInput> storage;
+    SlipReport report;
+    const StepInput& out = guard.apply(in, x, velocityOnly(0.02), storage, &report);
+    int k = 0;
+    for (int i = 0; i < n; ++i) {
+      RC_ASSERT(report.slipping(7 - i) == bool((slipping_mask >> i) & 1));
+      if ((slipping_mask >> i) & 1) continue;
+      RC_ASSERT(out.contacts[k].foot == 7 - i);
+      RC_ASSERT(out.normal_force[k] == in.normal_force[i]);
+      ++k;
+    }
+    RC_ASSERT(out.num_contacts == k);
+    RC_ASSERT((slipping_mask == 0) == (&out == &in));
+  });
 }
 
 namespace {
