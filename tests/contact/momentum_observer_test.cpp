@@ -131,10 +131,11 @@ double f1(const Trace& tr) {
   return 2.0 * tp / (2.0 * tp + fp + fn);
 }
 
-io::Log physicsLog(const std::string& scenario, double duration) {
+io::Log physicsLog(const std::string& scenario, double duration, bool noiseless = false) {
   sim::PhysicsOptions o = sim::PhysicsOptions::forScenario(scenario);
   o.duration = duration;
   o.seed = 7;
+  if (noiseless) o.noiseless();
   return sim::simulatePhysics(o).log;
 }
 
@@ -231,7 +232,8 @@ TEST_CASE("momentum observer: update() does not allocate", "[contact][momentum]"
 // Seed 7, 4 s (the trot: 1 s standing, then the 2 Hz trot ramping up to 0.5 m/s), K_O = 50:
 // measured rms 3.7 N standing, 9.5 N trotting at the best lag of 11 ms (12.8 N at lag 0), F1 1.00
 // and 0.98. The standing error is the gyro's noise (0.13 rad/s per sample) through the angular
-// momentum: with the sensors made noiseless it falls to 0.09 N, the model being exact.
+// momentum: with the sensors made noiseless it falls to 0.09 N, the model being exact. Run with
+// -s to print the figures.
 TEST_CASE("momentum observer on physics logs: normal forces and contact against the truth",
           "[contact][momentum][physics]") {
   const auto bestLag = [](const Trace& tr) {
@@ -246,6 +248,10 @@ TEST_CASE("momentum observer on physics logs: normal forces and contact against 
     CHECK(tr.problems == 60);  // the 60 ms settle time only
     CHECK(rmsError(tr, 0) < 6.0);
     CHECK(f1(tr) > 0.99);
+    // Without sensor noise the model is exact: what is left is the noise's (the gyro's).
+    const Trace clean = observe(physicsLog("physics-stand", 4.0, true));
+    INFO("noiseless: rms " << rmsError(clean, 0) << " N");
+    CHECK(rmsError(clean, 0) < 0.3);
   }
   SECTION("trotting") {
     const Trace tr = observe(physicsLog("physics-trot", 4.0));
