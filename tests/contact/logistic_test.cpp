@@ -3,6 +3,8 @@
 // detector's problems and hysteresis, no allocation per update; the training recovers the weights
 // that generated a synthetic labelled set, is deterministic, drops a constant or switched-off
 // feature, and refuses degenerate input with std::invalid_argument.
+#include <rapidcheck.h>
+#include <rapidcheck/catch.h>
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -150,6 +152,29 @@ TEST_CASE("logistic contact detector: p_c, hysteresis, problems, no allocation",
   const long before = test::allocationCount();
   for (int k = 0; k < 100; ++k) d.update(s);
   CHECK(test::allocationCount() == before);
+}
+
+TEST_CASE("logistic contact detector: its p_c is contactProbability's, in [0, 1], rising with F",
+          "[contact][logistic]") {
+  rc::prop("random models and readings", [] {
+    const auto real = [](int lo, int hi) {  // a double in [lo, hi] on a grid of 0.001
+      return *rc::gen::inRange(1000 * lo, 1000 * hi + 1) / 1000.0;
+    };
+    LogisticModel m;
+    m.w = Eigen::Vector4d(real(-5, 5), real(0, 5), real(-5, 5), 0.0);
+    m.mean = Eigen::Vector3d(real(0, 100), real(0, 1), 0.0);
+    m.scale = Eigen::Vector3d(real(1, 50), real(1, 2), 1.0);
+    const double force = real(0, 150), speed = real(0, 2);
+    LogisticContactDetector d(m);
+    const FootContact c = d.update(oneFoot(force, speed)).feet[0];
+    RC_ASSERT(c.usable());
+    const double p = contactProbability(m, contactFeatures(oneFoot(force, speed), 0, nullptr));
+    RC_ASSERT(std::abs(c.probability - p) < 1e-12);
+    RC_ASSERT(c.probability >= 0.0);
+    RC_ASSERT(c.probability <= 1.0);
+    const double p_more = d.update(oneFoot(force + 10.0, speed)).feet[0].probability;
+    RC_ASSERT(p_more >= c.probability);
+  });
 }
 
 TEST_CASE("trainLogistic recovers the generating weights of a synthetic set",
