@@ -32,7 +32,7 @@ LogisticModel trainLogistic(const std::vector<ContactFeatures>& samples,
 
   // Feature scaling: mean and standard deviation of each used feature over the set.
   const double n = static_cast<double>(samples.size());
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sum2 = Eigen::Vector3d::Zero();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   std::size_t positives = 0;
   for (std::size_t k = 0; k < samples.size(); ++k) {
     const Eigen::Vector3d x = raw(samples[k]);
@@ -41,20 +41,22 @@ LogisticModel trainLogistic(const std::vector<ContactFeatures>& samples,
         throw std::invalid_argument("trainLogistic: feature " + std::string(kFeatureName[i]) +
                                     " of sample " + std::to_string(k) + " is not finite");
     sum += x;
-    sum2 += x.cwiseProduct(x);
     positives += labels[k] ? 1 : 0;
   }
   if (positives == 0 || positives == samples.size())
     throw std::invalid_argument(std::string("trainLogistic: every label is ") +
                                 (positives == 0 ? "'no contact'" : "'contact'") +
                                 ": nothing to separate");
+  // Two passes (mean, then the squared deviations): no cancellation for a feature far from 0.
+  const Eigen::Vector3d mean = sum / n;
+  Eigen::Vector3d sq = Eigen::Vector3d::Zero();
+  for (const ContactFeatures& f : samples) sq += (raw(f) - mean).cwiseAbs2();
   LogisticModel model;
   bool active[3];
   for (int i = 0; i < 3; ++i) {
-    const double mean = sum[i] / n;
-    const double var = sum2[i] / n - mean * mean;
-    active[i] = use[i] && var > 1e-12 * (1.0 + mean * mean);
-    model.mean[i] = active[i] ? mean : 0.0;
+    const double var = sq[i] / n;
+    active[i] = use[i] && var > 1e-12 * (1.0 + mean[i] * mean[i]);
+    model.mean[i] = active[i] ? mean[i] : 0.0;
     model.scale[i] = active[i] ? std::sqrt(var) : 1.0;
   }
 
