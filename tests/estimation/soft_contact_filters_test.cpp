@@ -6,6 +6,7 @@
 #include <Eigen/Cholesky>
 #include <catch2/catch.hpp>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <random>
 #include <sstream>
@@ -252,5 +253,29 @@ TEST_CASE("soft contact: p_c = 0.8 on every stance foot keeps the ESKF and the I
               << r.bounds.upper << "], " << 100 * r.fraction << " % of rows inside");
     CHECK(r.mean > r.bounds.lower);
     CHECK(r.mean < r.bounds.upper);
+  }
+}
+
+TEST_CASE("soft contact: a probability outside [0, 1] or NaN is refused, naming field and time",
+          "[57.6][soft_contact]") {
+  for (const std::string& name : kFilters) {
+    INFO(name);
+    const auto filter = makeFilter(name);
+    for (const double p_c : {-0.1, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+      StepInput in = atRest(2.5, 0.0);
+      in.contacts[0] = ContactMeasurement{1, Vector3d(0.19, -0.14, -0.3),
+                                          1e-4 * Matrix3d::Identity(), std::nullopt};
+      in.contacts[0].probability = p_c;
+      in.num_contacts = 1;
+      CHECK_THROWS_WITH(filter->step(in), Catch::Contains("probability") &&
+                                              Catch::Contains("t = 2.5") &&
+                                              Catch::Contains("foot id 1"));
+    }
+    StepInput edge = atRest(2.5, 0.0);
+    edge.contacts[0] = ContactMeasurement{1, Vector3d(0.19, -0.14, -0.3),
+                                          1e-4 * Matrix3d::Identity(), std::nullopt};
+    edge.contacts[0].probability = 0.0;
+    edge.num_contacts = 1;
+    CHECK_NOTHROW(filter->step(edge));
   }
 }
