@@ -6,11 +6,15 @@
 //                              to converge, linear KF, ESKF and InEKF (section 57.10)
 //   legkit study sweep         the linear KF's noise parameters scaled over decades: accuracy
 //                              and consistency, the bias-variance trade-off (exercise 57.4.2)
+//   legkit study contact       the contact detectors against the physics' true contact (57.6)
+//   legkit study slip          slip detection and reactions on ice (57.7), study_contact.hpp
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <ostream>
 #include <string>
+
+#include "study_contact.hpp"
 
 namespace legkit::tools {
 
@@ -33,12 +37,13 @@ class StudyCommand {
   CLI::App* consistency_;
   CLI::App* convergence_;
   CLI::App* sweep_;
-  int runs_ = 0;          // 0: the study's own default
-  double duration_ = 0;   // 0: the study's own default [s]
+  int runs_ = 0;         // 0: the study's own default
+  double duration_ = 0;  // 0: the study's own default [s]
   unsigned seed_ = 1;
   int threads_ = 0;
   std::string out_dir_;
   bool plots_ = true;
+  StudyContact contact_;  // `study contact` and `study slip`
 };
 
 }  // namespace legkit::tools
