@@ -11,11 +11,13 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Times of the rises (rising = true) or falls of one foot's flag.
+// Times of the rises (rising = true) or falls of one foot's flag, from kEventWindow after the
+// first sample on (a detector's start-up, which no true event can explain, is not chatter).
 std::vector<double> events(const std::vector<double>& t, const std::vector<FootFlags>& flags,
                            int foot, bool rising) {
   std::vector<double> at;
   for (std::size_t k = 1; k < t.size(); ++k) {
+    if (t[k] - t.front() < kEventWindow) continue;
     if (flags[k][foot] != flags[k - 1][foot] && flags[k][foot] == rising) at.push_back(t[k]);
   }
   return at;

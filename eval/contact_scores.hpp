@@ -6,10 +6,11 @@
 //      precision = TP / (TP + FP), recall = TP / (TP + FN), F1 = 2 TP / (2 TP + FP + FN)
 //    (NaN when the denominator is 0: no detected contact, no true contact, neither);
 //  - events: a touchdown is a rise of the flag between samples k-1 and k (at t_k), a lift-off a
-//    fall; the first sample is no event. Each true touchdown, in time order, is matched to the
-//    nearest detected rise of the same foot within +-kEventWindow that no earlier touchdown took;
-//    its delay is t_detected - t_true (positive: the detector is late). Lift-offs the same with
-//    falls. A true event without a match is missed; it has no delay;
+//    fall; toggles in the first kEventWindow of the log are none (a detector starting up). Each
+//    true touchdown, in time order, is matched to the nearest detected rise of the same foot within
+//    +-kEventWindow that no earlier touchdown took; its delay is t_detected - t_true (positive: the
+//    detector is late). Lift-offs the same with falls. A true event without a match is missed; it
+//    has no delay;
 //  - delays: mean and 95th percentile (nearest rank: the ceil(0.95 n)-th smallest) of the
 //    matched delays over all feet, in ms (NaN when none matched);
 //  - chatter: detected rises and falls that match no true event (spurious toggles), summed over

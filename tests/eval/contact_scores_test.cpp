@@ -96,6 +96,17 @@ TEST_CASE("a silent detector misses every event; feet are summed", "[eval][57.6]
   CHECK(s.chatter_per_min == 0.0);
 }
 
+TEST_CASE("a detector's start-up in the first 100 ms is not chatter", "[eval][57.6]") {
+  const std::vector<FootFlags> truth = squareWave();
+  std::vector<FootFlags> detected = truth;
+  setFoot0(detected, 0, 5, false);      // turns on after 5 ms: a rise no true event explains
+  setFoot0(detected, 100, 102, false);  // at 100 ms: counted, a spurious fall and rise
+  const ContactScores s = scoreContacts(times(), detected, truth, 1);
+  CHECK(s.spurious_toggles == 2);
+  CHECK(s.touchdowns == 3);
+  CHECK(s.recall == Approx(1193.0 / 1200.0));
+}
+
 TEST_CASE("no detected and no true contact leaves precision and F1 undefined", "[eval][57.6]") {
   const std::vector<FootFlags> none(kSamples, FootFlags{});
   const ContactScores s = scoreContacts(times(), none, none, 4);

@@ -14,10 +14,12 @@
 #include <vector>
 
 #include "estimation/contact/detectors.hpp"
+#include "estimation/contact/foot_force.hpp"
 #include "estimation/contact/schmitt_trigger.hpp"
 #include "estimation/contact_pipeline.hpp"
 #include "estimation/estimators.hpp"
 #include "estimation/slip/slip_guard.hpp"
+#include "estimation/slip/terrain.hpp"
 #include "eval/contact_scores.hpp"
 #include "eval/contact_training.hpp"
 #include "eval/metrics.hpp"
@@ -91,11 +93,20 @@ struct PipelineRun {
   double threshold = kNaN;  // chi2_3(alpha)
 };
 
+// The terrain classifier of 57.7 fed along a run: each row's slip check and the ground forces
+// estimated from the joint torques (FootForceFromTorque, with the filter's previous estimate).
+struct TerrainWatch {
+  contact::FootForceFromTorque forces{model::QuadrupedGeometry::go2(),
+                                      model::QuadrupedInertia::go2()};
+  slip::TerrainClassifier classifier;
+};
+
 // Runs `filter` over the log, each row's input from the pipeline given the filter's estimate and
 // covariance after the previous row (57.6's rule: detect with the last estimate; the pipeline's
-// slip check, 57.7, against that same estimate), recording the slip checks when `slips`.
+// slip check, 57.7, against that same estimate), recording the slip checks when `slips` and
+// feeding `terrain` when given.
 PipelineRun runPipeline(const io::Log& log, Estimator& filter, ContactPipeline& pipeline,
-                        bool slips) {
+                        bool slips, TerrainWatch* terrain = nullptr) {
   PipelineRun run;
   const std::size_t n = log.rows.size();
   run.trajectory.reserve(n);
@@ -108,6 +119,15 @@ PipelineRun runPipeline(const io::Log& log, Estimator& filter, ContactPipeline& 
     const io::LogRow& row = log.rows[k];
     const double dt = k == 0 ? 0.0 : row.t - log.rows[k - 1].t;
     filter.step(pipeline.step(row, dt, x, P));
+    if (terrain) {
+      contact::BaseFeedback base;
+      base.valid = true;
+      base.R = x.q.toRotationMatrix();
+      base.v = x.v;
+      base.p = x.p;
+      const auto f = terrain->forces.estimate(pipeline.frontend().signals(row, dt, base));
+      terrain->classifier.update(pipeline.slipReport(), f.data(), kFeet, dt);
+    }
     x = filter.estimate();
     P = filter.covariance();
     run.trajectory.push_back(x);
@@ -468,6 +488,9 @@ int StudyContact::slip(std::ostream& out) const {
   std::vector<std::vector<std::string>> accuracy = {
       {"scenario", "filter", "pos RMSE [m]:", "", "", "", "vel RMSE [m/s]:", "", "", ""},
       {"", "", "none", "inflate", "drop", "imu-only", "none", "inflate", "drop", "imu-only"}};
+  std::vector<std::vector<std::string>> terrain_table = {{"scenario", "true mu", "class", "mu_hat",
+                                                          "mu lower bound", "onsets",
+                                                          "slip rate [1/s]", "slipping [%]"}};
   int done = 0;
   const int total = static_cast<int>(scenarios.size() * filters.size() * reactions.size());
   for (const std::string& name : scenarios) {
@@ -483,8 +506,22 @@ int StudyContact::slip(std::ostream& out) const {
         const std::unique_ptr<ContactPipeline> pipeline =
             makePipeline(log, o, contact_source_, context, reaction);
         const std::unique_ptr<Estimator> filter = makeEstimator(f);
-        const PipelineRun run = runPipeline(log, *filter, *pipeline, true);
+        TerrainWatch terrain;
+        const bool watched = reaction == slip::SlipReaction::kNone && f == "invariant-ekf";
+        const PipelineRun run =
+            runPipeline(log, *filter, *pipeline, true, watched ? &terrain : nullptr);
         const eval::Metrics m = eval::compare(log, run.trajectory);
+        if (watched) {
+          const slip::TerrainClassifier& c = terrain.classifier;
+          std::string mu = fixed(o.scenario.terrain.friction, 2);
+          for (const sim::FrictionPatch& patch : o.scenario.terrain.patches) {
+            mu += " (" + fixed(patch.friction, 2) + " patch)";
+          }
+          terrain_table.push_back({scenarioLabel(o, sim), mu, slip::terrainClassName(c.terrain()),
+                                   fixed(c.frictionEstimate(), 3), fixed(c.frictionLowerBound(), 3),
+                                   std::to_string(c.onsets()), fixed(c.slipRate(), 2),
+                                   fixed(100.0 * c.slipFraction(), 1)});
+        }
         const SlipScores s = scoreSlips(log, run);
         csv << name << ',' << f << ',' << slip::slipReactionName(reaction) << ',' << m.position_rmse
             << ',' << m.velocity_rmse << ',' << s.slips << ',' << s.detected << ',' << s.delay_mean
@@ -548,6 +585,9 @@ int StudyContact::slip(std::ostream& out) const {
   printTable(out, detection);
   out << "\nEvery filter with each slip reaction:\n\n";
   printTable(out, accuracy);
+  out << "\nTerrain classes at the end of each run (invariant-ekf, reaction none; forces from the "
+         "joint torques; slip rate per second and share of stance foot-time slipping):\n\n";
+  printTable(out, terrain_table);
   out << "\nEvery filter on physics-trot, true against detected contacts (no slip reaction):\n\n";
   printTable(out, sources_table);
   writeAtomically(dir / "slip.csv", [&](std::ostream& f) { f << csv.str(); });
