@@ -13,6 +13,7 @@ ContactPipeline::ContactPipeline(const io::LogLayout& layout,
     : frontend_(layout, kinematics, noise),
       options_(options),
       detector_(std::move(detector)),
+      rolling_(kinematics.geometry()),
       guard_(options.slip_params, options.slip) {
   if (!(options.no_contact_bound > 0.0) || !std::isfinite(options.no_contact_bound)) {
     throw std::invalid_argument("ContactPipeline: no_contact_bound must be positive, got " +
@@ -28,12 +29,21 @@ ContactPipeline::ContactPipeline(const io::LogLayout& layout,
   }
 }
 
+ContactPipeline::ContactPipeline(const io::LogLayout& layout,
+                                 const model::QuadrupedKinematics& kinematics,
+                                 const FrontendNoise& noise, const PipelineOptions& options,
+                                 const contact::DetectorContext& context)
+    : ContactPipeline(
+          layout, kinematics, noise, options,
+          options.contact == "truth" ? nullptr : contact::makeDetector(options.contact, context)) {}
+
 std::string ContactPipeline::source() const {
   return detector_ ? detector_->name() : "truth";
 }
 
 void ContactPipeline::reset() {
   if (detector_) detector_->reset();
+  rolling_.reset();
   guard_.reset();
   health_ = Health{};
   last_stance_t_.reset();
@@ -62,6 +72,9 @@ const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const E
       c.problem = nullptr;
     }
     input_ = frontend_.input(row, dt);  // the log's flags, as they have always been read
+  }
+  if (options_.rolling_foot && frontend_.layout().joints) {
+    rolling_.apply(input_, x.q.toRotationMatrix(), row.q, row.dq);
   }
   // Silence of the contact source (a slip reaction dropping feet is not silence): no stance foot
   // since last_stance_t_ for longer than the bound.

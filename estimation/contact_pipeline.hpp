@@ -2,6 +2,8 @@
 //   signals (LogFrontend::signals, with the estimator's estimate of the previous step)
 //   -> a contact detector (or the log's contact_ flags for the source "truth")
 //   -> StepInput (stance feet weighted by their contact probability, LogFrontend::input)
+//   -> RollingFoot (option: a stance foot is the ground point its sphere touched, not the
+//      sphere's centre, which rolls; joint logs only)
 //   -> SlipGuard (57.7: each stance foot's velocity residual against the estimate and its
 //      covariance; the reaction chosen: none, inflate R, drop the foot, IMU only while all slip)
 //   -> the caller hands it to the estimator.
@@ -17,9 +19,11 @@
 #include <string>
 
 #include "estimation/contact/contact_detector.hpp"
+#include "estimation/contact/detectors.hpp"
 #include "estimation/contact/soft_contact.hpp"
 #include "estimation/estimator.hpp"
 #include "estimation/health.hpp"
+#include "estimation/leg_odometry/rolling_foot.hpp"
 #include "estimation/log_frontend.hpp"
 #include "estimation/slip/slip_guard.hpp"
 #include "io/log.hpp"
@@ -28,8 +32,11 @@ namespace legkit {
 
 struct PipelineOptions {
   // "truth": the log's contact_ columns (the physics simulator writes the true contact there; a
-  // robot's log may carry its own flags); otherwise the name of the detector that was built.
+  // robot's log may carry its own flags); otherwise a detector, one of contact::detectorNames().
   std::string contact = "truth";
+  // The stance point on the ground instead of the foot sphere's centre (RollingFoot); used on
+  // logs with joints (the sphere's roll comes from the joint rates).
+  bool rolling_foot = true;
   double no_contact_bound = 0.5;    // [s] longest stretch without a stance foot before kNoContact
   contact::SoftContactParams soft;  // how p_c weights a foot (detectors only)
   // What the filter does with a foot found slipping; with kNone the slip check still reports.
@@ -46,6 +53,11 @@ class ContactPipeline {
   ContactPipeline(const io::LogLayout& layout, const model::QuadrupedKinematics& kinematics,
                   const FrontendNoise& noise, const PipelineOptions& options,
                   std::unique_ptr<contact::ContactDetector> detector = nullptr);
+  // The detector named by options.contact, from contact::makeDetector(options.contact, context)
+  // (whose errors it throws), or the log's flags for "truth".
+  ContactPipeline(const io::LogLayout& layout, const model::QuadrupedKinematics& kinematics,
+                  const FrontendNoise& noise, const PipelineOptions& options,
+                  const contact::DetectorContext& context);
 
   // "truth" or the detector's name.
   std::string source() const;
@@ -70,6 +82,7 @@ class ContactPipeline {
   LogFrontend frontend_;
   PipelineOptions options_;
   std::unique_ptr<contact::ContactDetector> detector_;
+  leg_odometry::RollingFoot rolling_;
   slip::SlipGuard guard_;
   contact::ContactEstimate contacts_;
   StepInput input_;                   // from the contacts

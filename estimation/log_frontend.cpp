@@ -91,6 +91,7 @@ StepInput LogFrontend::input(const io::LogRow& row, double dt,
     if (!answer.usable() || !answer.contact || answer.probability < soft.min_probability) continue;
     ContactMeasurement c = measurement(row, foot);
     c.cov = contact::softMeasurementCov(c.cov, answer.probability, soft);
+    c.probability = answer.probability;
     in.contacts[in.num_contacts] = c;
     in.normal_force[in.num_contacts] = row.force[foot];
     ++in.num_contacts;

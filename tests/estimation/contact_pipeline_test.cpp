@@ -5,7 +5,6 @@
 #include <cmath>
 #include <memory>
 
-#include "estimation/contact/gait_clock.hpp"
 #include "estimation/contact/schmitt_trigger.hpp"
 #include "estimation/contact_pipeline.hpp"
 #include "estimation/estimators.hpp"
@@ -47,7 +46,9 @@ TEST_CASE("pipeline: contact 'truth' gives every estimator exactly the old path'
           "[57.6][physics]") {
   const io::Log& log = trotLog();
   const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
-  ContactPipeline pipeline(log.layout, model::QuadrupedKinematics(), FrontendNoise{}, {});
+  PipelineOptions options;  // the log's flags, slip check without reaction
+  options.rolling_foot = false;
+  ContactPipeline pipeline(log.layout, model::QuadrupedKinematics(), FrontendNoise{}, options);
   CHECK(pipeline.source() == "truth");
   const EstimateSample x0 = eval::initialState(log);
   for (const std::string& name : estimatorNames()) {
@@ -133,25 +134,40 @@ TEST_CASE("pipeline: a log without contact columns runs on a detector, not on de
   CHECK_THROWS_WITH(ContactPipeline(log.layout, model::QuadrupedKinematics(), FrontendNoise{}, {}),
                     Catch::Matchers::Contains("no contact columns"));
 
+  // The recommended chain by name; with the force columns gone too, it falls back to the force
+  // from joint torques for every foot and sample.
+  contact::DetectorContext context;
+  context.gait = plannedGait(trotOptions(15.0).scenario);
   PipelineOptions options;
-  options.contact = "gait-clock";
-  ContactPipeline pipeline(
-      log.layout, model::QuadrupedKinematics(), FrontendNoise{}, options,
-      std::make_unique<contact::GaitClockDetector>(plannedGait(trotOptions(15.0).scenario)));
+  options.contact = "fallback";
+  ContactPipeline pipeline(log.layout, model::QuadrupedKinematics(), FrontendNoise{}, options,
+                           context);
+  CHECK(pipeline.source() == "schmitt>schmitt-torque>momentum-observer>kinematic>gait-clock");
+  io::Log no_force = log;
+  no_force.layout.force = false;
+  ContactPipeline torque_only(no_force.layout, model::QuadrupedKinematics(), FrontendNoise{},
+                              options, context);
   const std::unique_ptr<Estimator> eskf = makeEstimator("eskf");
   const eval::RunResult detected = eval::runOnLog(*eskf, log, pipeline, x0);
+  const eval::RunResult from_torques = eval::runOnLog(*eskf, no_force, torque_only, x0);
   REQUIRE_FALSE(detected.failed());
-  CHECK(detected.contact_source == "gait-clock");
+  REQUIRE_FALSE(from_torques.failed());
   CHECK(detected.health[Fault::kNoContact] == 0);
+  // The torque chain's Schmitt (50 / 20 N) stays below F_high on a standing foot (about 37 N):
+  // the stand before the trot is a stretch without contact, and the run says so.
+  CHECK(from_torques.health[Fault::kNoContact] == 1);
+  CHECK(from_torques.health.last_fault_t < trotOptions(15.0).scenario.stand_time);
   // The old path on this log: no feet at all, the filter integrates the IMU alone.
   const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
   const eval::RunResult blind = eval::runOnLog(*eskf, log, frontend, x0);
-  const eval::Metrics with = eval::compare(log, detected.trajectory);
   const eval::Metrics without = eval::compare(log, blind.trajectory);
-  INFO("position RMSE on the gait clock " << with.position_rmse << " m, without feet "
-                                          << without.position_rmse << " m");
-  CHECK(with.position_rmse < 0.1 * without.position_rmse);
-  CHECK(with.velocity_rmse < 0.25 * without.velocity_rmse);
+  for (const eval::RunResult* run : {&detected, &from_torques}) {
+    const eval::Metrics with = eval::compare(log, run->trajectory);
+    INFO("position RMSE on detected contacts " << with.position_rmse << " m, without feet "
+                                               << without.position_rmse << " m");
+    CHECK(with.position_rmse < 0.1 * without.position_rmse);
+    CHECK(with.velocity_rmse < 0.25 * without.velocity_rmse);
+  }
 }
 
 TEST_CASE("pipeline: no stance foot for longer than the bound is counted once per stretch",
@@ -250,6 +266,8 @@ TEST_CASE("frontend: the detector's answer weights each foot by p_c; unsure feet
       hard.contacts[0].cov / 0.61 + 0.05 * 0.05 * 0.4 * Eigen::Matrix3d::Identity();
   CHECK((in.contacts[1].cov - expected).norm() < 1e-15);
   CHECK(in.contacts[1].p_body == hard.contacts[0].p_body);
+  CHECK(in.contacts[0].probability == 1.0);
+  CHECK(in.contacts[1].probability == 0.6);
   CHECK(in.t == row.t);
   CHECK(in.imu.w_m == row.gyro);
 }

@@ -417,3 +417,77 @@ TEST_CASE("cli: run on a physics scenario whose robot falls: the table up to the
   CHECK(rows > 3000);
   CHECK(rows < 10000);
 }
+
+TEST_CASE("cli: the main job runs on detected contacts and scores the detector", "[cli][physics]") {
+  const Folder dir("detected");
+  Result r = runLegkit(dir.path, {"run", "--duration", "2.5", "--no-plots", "--out", "out"});
+  INFO(r.output);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("simulated physics-trot (MuJoCo physics), 2.5 s"));
+  CHECK_THAT(r.output,
+             Catch::Matchers::Contains("contacts: detected by schmitt>schmitt-torque>momentum-"
+                                       "observer>kinematic>gait-clock; slip handling: inflate; "
+                                       "rolling foot: on"));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("against the physics' true contact"));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("every estimator"));
+  const std::string summary = slurp(dir.path / "out" / "summary.json");
+  CHECK_THAT(summary, Catch::Matchers::Contains("\"slip\": \"inflate\""));
+  CHECK_THAT(summary, Catch::Matchers::Contains("\"contact_scores\""));
+  CHECK_THAT(summary, Catch::Matchers::Contains("\"f1\""));
+
+  // The old path, asked for: the log's (true) flags, no slip reaction, the sphere's centre.
+  r = runLegkit(dir.path, {"run", "--duration", "2.5", "--no-plots", "--out", "truth", "--contact",
+                           "truth", "--slip", "none", "--no-rolling-foot"});
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains(
+                           "contacts: the log's contact flags (--contact truth); slip handling: "
+                           "none; rolling foot: off"));
+  // One estimator's scores line each when the detector reads the estimate (kinematic).
+  r = runLegkit(dir.path, {"run", "--duration", "2.5", "--no-plots", "--out", "kin", "--contact",
+                           "kinematic"});
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("contact detection (kinematic)"));
+}
+
+TEST_CASE("cli: the analytic trot keeps its true flags", "[cli]") {
+  const Folder dir("analytic");
+  const Result r = runLegkit(
+      dir.path, {"run", "--scenario", "trot", "--duration", "2", "--no-plots", "--out", "out"});
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("simulated trot, 2 s"));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("contacts: the log's contact flags"));
+  CHECK_THAT(r.output, !Catch::Matchers::Contains("contact detection"));
+}
+
+TEST_CASE("cli: contact and slip options: bad values are usage errors naming them",
+          "[cli][physics]") {
+  const Folder dir("contact_options");
+  Result r = runLegkit(dir.path, {"run", "--contact", "psychic", "--out", "x"});
+  CHECK(r.status == 1);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("--contact"));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("schmitt"));  // the known names are listed
+  r = runLegkit(dir.path, {"run", "--slip", "sideways", "--out", "x"});
+  CHECK(r.status == 1);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("--slip"));
+  // The logistic detector without a trained model.
+  r = runLegkit(dir.path, {"run", "--contact", "probabilistic", "--duration", "1", "--out", "x"});
+  CHECK(r.status == 1);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("trained"));
+  CHECK_FALSE(fs::exists(dir.path / "x" / "summary.json"));
+
+  // A log without contact columns: 'truth' is refused, the default is a detector.
+  REQUIRE(runLegkit(dir.path,
+                    {"sim", "--scenario", "physics-trot", "--duration", "2.5", "--out", "p.csv"})
+              .status == 0);
+  legkit::io::Log log = legkit::io::readLog((dir.path / "p.csv").string());
+  log.layout.contact = false;
+  legkit::io::writeLog((dir.path / "no-flags.csv").string(), log);
+  r = runLegkit(dir.path,
+                {"run", "--log", "no-flags.csv", "--contact", "truth", "--no-plots", "--out", "x"});
+  CHECK(r.status == 1);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("no-flags.csv has no contact columns"));
+  r = runLegkit(dir.path, {"run", "--log", "no-flags.csv", "--no-plots", "--out", "x"});
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("contacts: detected by schmitt>"));
+  CHECK_THAT(r.output, !Catch::Matchers::Contains("no contact for longer than the bound"));
+}

@@ -13,8 +13,11 @@
 #include <sstream>
 #include <vector>
 
+#include "estimation/contact/detectors.hpp"
+#include "estimation/contact_pipeline.hpp"
 #include "estimation/estimators.hpp"
 #include "estimation/log_frontend.hpp"
+#include "estimation/slip/slip_guard.hpp"
 #include "eval/consistency.hpp"
 #include "eval/metrics.hpp"
 #include "eval/monte_carlo.hpp"
@@ -104,6 +107,29 @@ nlohmann::json toJson(const std::vector<RunRow>& rows) {
     j["health"] = health;
     const double anees = eval::normalisedAnees(r.run);
     j["anees"] = std::isnan(anees) ? nlohmann::json(nullptr) : nlohmann::json(anees);
+    j["contact_source"] = r.run.contact_source;
+    j["slip_reaction"] = r.run.slip_reaction;
+    j["rows_with_a_slipping_foot"] =
+        std::count_if(r.run.slip.begin(), r.run.slip.end(),
+                      [](const eval::SlipSummary& s) { return s.slipping > 0; });
+    if (r.contact_scores) {
+      const eval::ContactScores& c = *r.contact_scores;
+      const auto number = [](double x) {
+        return std::isnan(x) ? nlohmann::json(nullptr) : nlohmann::json(x);
+      };
+      j["contact_scores"] = {{"precision", number(c.precision)},
+                             {"recall", number(c.recall)},
+                             {"f1", number(c.f1)},
+                             {"touchdown_delay_mean_ms", number(c.touchdown_delay_mean)},
+                             {"touchdown_delay_p95_ms", number(c.touchdown_delay_p95)},
+                             {"liftoff_delay_mean_ms", number(c.liftoff_delay_mean)},
+                             {"liftoff_delay_p95_ms", number(c.liftoff_delay_p95)},
+                             {"chatter_per_min", number(c.chatter_per_min)},
+                             {"touchdowns", c.touchdowns},
+                             {"liftoffs", c.liftoffs},
+                             {"missed_touchdowns", c.missed_touchdowns},
+                             {"missed_liftoffs", c.missed_liftoffs}};
+    }
     if (r.metrics) {
       j["position_rmse_m"] = r.metrics->position_rmse;
       j["velocity_rmse_mps"] = r.metrics->velocity_rmse;
@@ -171,6 +197,43 @@ void removeStaleOutputs(const fs::path& dir) {
   for (const fs::path& p : stale) remove(p);
 }
 
+// The planned gait a robot running `scenario` would publish: its gait, the clock started at
+// stand_time (for the gait clock at the end of the fallback chain).
+contact::GaitSchedule plannedGait(const sim::PhysicsScenario& scenario) {
+  contact::GaitSchedule g;
+  g.period = scenario.gait.period;
+  g.duty = scenario.gait.duty;
+  for (int foot = 0; foot < io::kNumLegs; ++foot) g.offset[foot] = scenario.gait.offset[foot];
+  g.start = scenario.stand_time;
+  return g;
+}
+
+// Each run's detected contacts against the log's true contact (the rows the run covered).
+std::optional<eval::ContactScores> contactScores(const io::Log& log, const eval::RunResult& run) {
+  const std::size_t n = run.detected_contact.size();
+  if (!log.layout.contact_truth || n < 2) return std::nullopt;
+  std::vector<double> t(n);
+  std::vector<eval::FootFlags> truth(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    t[k] = log.rows[k].t;
+    truth[k] = {};
+    for (int foot = 0; foot < log.layout.num_feet; ++foot) {
+      truth[k][foot] = log.rows[k].gt_feet[foot].contact;
+    }
+  }
+  return eval::scoreContacts(t, run.detected_contact, truth, log.layout.num_feet);
+}
+
+// "truth (the log's contact flags)" or "<detector>", then the slip reaction and the rolling foot.
+std::string describeContacts(const ContactPipeline& pipeline, bool joints) {
+  const PipelineOptions& o = pipeline.options();
+  std::string s = o.contact == "truth" ? "the log's contact flags (--contact truth)"
+                                       : "detected by " + pipeline.source();
+  s += "; slip handling: " + std::string(slip::slipReactionName(o.slip));
+  if (joints) s += o.rolling_foot ? "; rolling foot: on" : "; rolling foot: off";
+  return s;
+}
+
 }  // namespace
 
 std::vector<std::size_t> estimateRows(const std::vector<EstimateSample>& trajectory, double rate) {
@@ -228,6 +291,36 @@ void printRunTable(std::ostream& out, const std::vector<RunRow>& rows) {
   }
 }
 
+void printContactTable(std::ostream& out, const std::vector<RunRow>& rows) {
+  std::vector<const RunRow*> scored;
+  for (const RunRow& r : rows) {
+    if (r.contact_scores) scored.push_back(&r);
+  }
+  if (scored.empty()) return;
+  bool same = true;
+  for (const RunRow* r : scored) {
+    same = same && r->run.detected_contact == scored.front()->run.detected_contact;
+  }
+  std::vector<std::vector<std::string>> table = {
+      {"contacts of", "precision", "recall", "F1", "touchdown delay mean/p95 [ms]",
+       "lift-off delay mean/p95 [ms]", "chatter [/min]"}};
+  const auto delays = [](double mean, double p95) {
+    return (std::isnan(mean) ? std::string("-") : cell(mean, 1)) + " / " +
+           (std::isnan(p95) ? std::string("-") : cell(p95, 1));
+  };
+  for (const RunRow* r : scored) {
+    const eval::ContactScores& c = *r->contact_scores;
+    table.push_back(
+        {same ? std::string("every estimator") : r->run.name, cell(c.precision, 3),
+         cell(c.recall, 3), cell(c.f1, 3), delays(c.touchdown_delay_mean, c.touchdown_delay_p95),
+         delays(c.liftoff_delay_mean, c.liftoff_delay_p95), cell(c.chatter_per_min, 1)});
+    if (same) break;
+  }
+  out << "contact detection (" << scored.front()->run.contact_source
+      << ") against the physics' true contact:\n";
+  printTable(out, table);
+}
+
 RunCommand::RunCommand(CLI::App& app)
     : command_(app.add_subcommand(
           "run", "The main job: simulate (or read a log), run every estimator, print one table")) {
@@ -255,6 +348,19 @@ RunCommand::RunCommand(CLI::App& app)
        "Rate of the estimate_*.csv files [Hz] (default 100); 0 or 'all': every sample. The "
        "metrics always use every sample")
       ->type_name("HZ|all");
+  std::vector<std::string> contacts = {"truth"};
+  for (const std::string& name : contact::detectorNames()) contacts.push_back(name);
+  c.add_option("--contact", contact_,
+               "Contact source: 'truth' (the log's contact flags) or a detector (default: " +
+                   std::string(kDefaultContact) + "; 'truth' on the analytic scenarios)")
+      ->check(CLI::IsMember(contacts));
+  c.add_option("--slip", slip_,
+               "What the filters do with a foot found slipping (default: " +
+                   std::string(kDefaultSlip) + "; 'none' on the analytic scenarios)")
+      ->check(CLI::IsMember({"none", "inflate", "drop", "imu-only"}));
+  c.add_flag("!--no-rolling-foot", rolling_foot_,
+             "Stance feet at the foot sphere's centre, not at the ground point it touched (the "
+             "analytic scenarios' feet do not roll: always off there)");
   c.add_flag("--json", json_, "Print the summary as JSON (one object per estimator)");
   c.add_flag("!--no-plots", plots_, "Do not draw the PNG plots");
 }
@@ -288,7 +394,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
     noise = matchedFrontendNoise(options);
     std::ostringstream os;
     os << "simulated " << scenario_ << " (MuJoCo physics), " << options.duration << " s, seed "
-       << seed_ << ", Go2-class sensors, true contact flags";
+       << seed_ << ", Go2-class sensors";
     source = os.str();
   } else {
     sim::SimOptions options;
@@ -302,6 +408,35 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
        << ", Go2-class sensors";
     source = os.str();
   }
+  // The contact pipeline every estimator runs on; the analytic scenarios keep their true flags.
+  // A recorded log of foot columns without force columns has nothing a detector reads: its own
+  // flags, when it has them, are the better default.
+  const bool analytic = log_.empty() && !isPhysicsScenario(scenario_);
+  const bool undetectable = !log.layout.joints && !log.layout.force && log.layout.contact;
+  PipelineOptions pipeline_options;
+  pipeline_options.contact = !contact_.empty()          ? contact_
+                             : analytic || undetectable ? "truth"
+                                                        : kDefaultContact;
+  pipeline_options.slip = *slip::slipReactionByName(!slip_.empty() ? slip_
+                                                    : analytic     ? "none"
+                                                                   : kDefaultSlip);
+  pipeline_options.rolling_foot = rolling_foot_ && !analytic;
+  contact::DetectorContext context;
+  if (log_.empty() && !analytic) {
+    context.gait = plannedGait(sim::physicsScenarioByName(scenario_));
+  }
+  if (pipeline_options.contact == "truth" && !log.layout.contact) {
+    throw UsageError("--contact truth: " + source + " has no contact columns; choose a detector");
+  }
+  std::optional<ContactPipeline> made;
+  try {
+    made.emplace(log.layout, model::QuadrupedKinematics(), noise, pipeline_options, context);
+  } catch (const std::invalid_argument& e) {  // a detector this log or robot cannot feed
+    throw UsageError("--contact " + pipeline_options.contact + ": " + e.what());
+  }
+  ContactPipeline& pipeline = *made;
+  const std::string contacts = describeContacts(pipeline, log.layout.joints);
+
   const fs::path dir = !out_dir_.empty() ? fs::path(out_dir_)
                        : !log_.empty()
                            ? fs::path("legkit-out") / fs::path(log_).stem()
@@ -312,14 +447,14 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   const fs::path log_path = log_.empty() ? dir / "log.csv" : fs::path(log_);
   if (log_.empty()) writeAtomically(log_path, [&](std::ostream& f) { io::writeLog(f, log); });
 
-  const LogFrontend frontend(log.layout, model::QuadrupedKinematics(), noise);
   const EstimateSample x0 = eval::initialState(log);
   std::vector<RunRow> rows;
   for (const std::string& name : estimatorNames()) {
     const std::unique_ptr<Estimator> e = makeEstimator(name);
-    RunRow r{eval::runOnLog(*e, log, frontend, x0), std::nullopt};
+    RunRow r{eval::runOnLog(*e, log, pipeline, x0), std::nullopt, std::nullopt};
     if (log.layout.ground_truth && !r.run.failed())
       r.metrics = eval::compare(log, r.run.trajectory);
+    r.contact_scores = contactScores(log, r.run);
     writeAtomically(dir / ("estimate_" + r.run.name + ".csv"),
                     [&](std::ostream& f) { writeEstimates(f, r.run, estimate_rate_); });
     rows.push_back(std::move(r));
@@ -334,6 +469,11 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
       {"legkit_version", LEGKIT_VERSION},
       {"command", command_line},
       {"source", source},
+      {"contacts",
+       {{"source", pipeline.source()},
+        {"slip", slip::slipReactionName(pipeline_options.slip)},
+        {"rolling_foot", pipeline_options.rolling_foot},
+        {"no_contact_bound_s", pipeline_options.no_contact_bound}}},
       {"samples", log.rows.size()},
       {"estimate_rate_hz",
        estimate_rate_ > 0.0 ? nlohmann::json(estimate_rate_) : nlohmann::json("all")},
@@ -348,9 +488,14 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   if (json_) {
     out << toJson(rows).dump(2) << '\n';
   } else {
-    out << "legkit run: " << source << " (" << log.rows.size() << " samples)\n\n";
+    out << "legkit run: " << source << " (" << log.rows.size() << " samples)\n";
+    out << "contacts: " << contacts << "\n\n";
     if (!fall.empty()) out << "STOPPED: " << fall << "; the table covers the log up to then\n\n";
     printRunTable(out, rows);
+    if (log.layout.contact_truth) {
+      out << '\n';
+      printContactTable(out, rows);
+    }
     out << "\nANEES: the mean over the run of NEES / its degrees of freedom (9, or 6 for the "
            "linear KF, whose attitude is an input); about 1 for a consistent filter.\n";
     if (!log.layout.ground_truth) out << "\n(the log has no ground truth: errors not computed)\n";

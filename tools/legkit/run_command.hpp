@@ -1,9 +1,11 @@
 // `legkit run`, the main job: simulate the default scenario (or read a recorded log), run every
-// estimator of the kit on it, print one table, and write the log, the estimates and plots to an
-// output folder.
-//   legkit run                          trot, 60 s, Go2-class sensors, seed 1
-//   legkit run --scenario turn --seed 3
-//   legkit run --scenario physics-trot --duration 20   (MuJoCo physics; a fall exits 3)
+// estimator of the kit on it through the contact pipeline (estimation/contact_pipeline.hpp:
+// contacts detected by the kit, slip handling), print the estimator table and under it the
+// contact detector's scores, and write the log, the estimates and plots to an output folder.
+//   legkit run                          physics trot (MuJoCo), 60 s, Go2-class sensors, seed 1,
+//                                       contacts detected, slip handling on
+//   legkit run --contact schmitt --slip none
+//   legkit run --scenario trot          the analytic trot on its true contact flags
 //   legkit run --log my_robot.csv --json
 #pragma once
 
@@ -13,16 +15,25 @@
 #include <string>
 #include <vector>
 
+#include "eval/contact_scores.hpp"
 #include "eval/metrics.hpp"
 #include "eval/runner.hpp"
 
 namespace legkit::tools {
 
+// The contact source and slip reaction of physics scenarios and recorded logs when the command
+// line names none. The analytic scenarios run on their true flags without a slip reaction, as
+// they always have; so does a recorded log with contact flags but neither joints nor force
+// columns (nothing a detector could read).
+constexpr const char* kDefaultContact = "fallback";
+constexpr const char* kDefaultSlip = "inflate";
+
 // One estimator's line of the table: its run and, when the log has ground truth and the run
-// finished, its accuracy.
+// finished, its accuracy; when the log has the true contacts, its detected contacts' scores.
 struct RunRow {
   eval::RunResult run;
   std::optional<eval::Metrics> metrics;
+  std::optional<eval::ContactScores> contact_scores;
 };
 
 // The rows of a trajectory that an estimate file at `rate` [Hz] keeps (rate 0: every row): the
@@ -34,6 +45,11 @@ std::vector<std::size_t> estimateRows(const std::vector<EstimateSample>& traject
 // each failure with its file:line, time and reason, and each estimator's non-zero health counts.
 void printRunTable(std::ostream& out, const std::vector<RunRow>& rows);
 
+// The contact detector's table, under the estimator table: precision, recall, F1, touchdown and
+// lift-off delays, chatter against the log's true contact. One line for all estimators when their
+// runs detected the same flags (a detector that ignores the estimate), else one per estimator.
+// Nothing when no row has scores.
+void printContactTable(std::ostream& out, const std::vector<RunRow>& rows);
 class RunCommand {
  public:
   explicit RunCommand(CLI::App& app);
@@ -47,13 +63,16 @@ class RunCommand {
  private:
   CLI::App* command_;
   CLI::Option* duration_option_;
-  std::string scenario_ = "trot";
+  std::string scenario_ = "physics-trot";
   double duration_ = 60.0;
   unsigned seed_ = 1;
   std::string log_;
   double max_gap_ = 0.0;  // 0: 10 median periods
   std::string out_dir_;
   double estimate_rate_ = 100.0;  // [Hz] of the estimate files; 0: every sample
+  std::string contact_;           // empty: kDefaultContact, or "truth" on an analytic scenario
+  std::string slip_;              // empty: kDefaultSlip, or "none" on an analytic scenario
+  bool rolling_foot_ = true;
   bool json_ = false;
   bool plots_ = true;
 };
