@@ -107,7 +107,10 @@ def f1_delay(folder, out):
         if math.isnan(f1) or math.isnan(delay):
             continue
         d = r["detector"]
-        ax.scatter(delay, f1, color=detector_colour(d), s=22, label=None if d in seen else d)
+        # The fallback chain answers with its first detector (the Schmitt trigger) whenever that
+        # one can: a cross, so that the points it shares with "schmitt" stay visible.
+        ax.scatter(delay, f1, color=detector_colour(d), s=40 if d == "fallback" else 22,
+                   marker="x" if d == "fallback" else "o", label=None if d in seen else d)
         seen.add(d)
     ax.set_xlabel("mean touchdown delay [ms] (detected - true)")
     ax.set_ylabel("F1 (sample-wise, all feet)")
