@@ -503,6 +503,10 @@ int StudyContact::slip(std::ostream& out) const {
   std::vector<std::vector<std::string>> accuracy = {
       {"scenario", "filter", "pos RMSE [m]:", "", "", "", "vel RMSE [m/s]:", "", "", ""},
       {"", "", "none", "inflate", "drop", "imu-only", "none", "inflate", "drop", "imu-only"}};
+  std::ostringstream terrain_csv = newCsv();
+  terrain_csv << "# seed " << seed_ << " duration " << duration << " contact " << contact_source_
+              << " filter invariant-ekf\n"
+              << "scenario,true_mu,class,mu_hat,mu_lower_bound,onsets,slip_rate,slip_fraction\n";
   std::vector<std::vector<std::string>> terrain_table = {{"scenario", "true mu", "class", "mu_hat",
                                                           "mu lower bound", "onsets",
                                                           "slip rate [1/s]", "slipping [%]"}};
@@ -532,6 +536,9 @@ int StudyContact::slip(std::ostream& out) const {
           for (const sim::FrictionPatch& patch : o.scenario.terrain.patches) {
             mu += " (" + fixed(patch.friction, 2) + " patch)";
           }
+          terrain_csv << name << ',' << mu << ',' << slip::terrainClassName(c.terrain()) << ','
+                      << c.frictionEstimate() << ',' << c.frictionLowerBound() << ',' << c.onsets()
+                      << ',' << c.slipRate() << ',' << c.slipFraction() << '\n';
           terrain_table.push_back({scenarioLabel(o, sim), mu, slip::terrainClassName(c.terrain()),
                                    fixed(c.frictionEstimate(), 3), fixed(c.frictionLowerBound(), 3),
                                    std::to_string(c.onsets()), fixed(c.slipRate(), 2),
@@ -609,9 +616,11 @@ int StudyContact::slip(std::ostream& out) const {
   printTable(out, sources_table);
   writeAtomically(dir / "slip.csv", [&](std::ostream& f) { f << csv.str(); });
   writeAtomically(dir / "slip-sources.csv", [&](std::ostream& f) { f << sources_csv.str(); });
+  writeAtomically(dir / "slip-terrain.csv", [&](std::ostream& f) { f << terrain_csv.str(); });
   writeAtomically(dir / "slip-trace.csv", [&](std::ostream& f) { f << trace.str(); });
   out << "tables: " << (dir / "slip.csv").string() << ", " << (dir / "slip-sources.csv").string()
-      << ", " << (dir / "slip-trace.csv").string() << '\n';
+      << ", " << (dir / "slip-terrain.csv").string() << ", " << (dir / "slip-trace.csv").string()
+      << '\n';
   if (plots_) {
     const std::string failed = plot("57.7-slip.py", {dir.string()});
     out << (failed.empty() ? "figure: " + (dir / "57.7-slip.png").string() : failed) << '\n';
