@@ -108,6 +108,7 @@ nlohmann::json toJson(const std::vector<RunRow>& rows) {
     const double anees = eval::normalisedAnees(r.run);
     j["anees"] = std::isnan(anees) ? nlohmann::json(nullptr) : nlohmann::json(anees);
     j["contact_source"] = r.run.contact_source;
+    j["pipeline_us_per_step"] = r.run.pipeline_us_per_step;
     j["slip_reaction"] = r.run.slip_reaction;
     j["rows_with_a_slipping_foot"] =
         std::count_if(r.run.slip.begin(), r.run.slip.end(),
