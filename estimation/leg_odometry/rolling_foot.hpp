@@ -4,7 +4,12 @@
 // A Go2-class foot is a sphere of radius r on the end of the calf, and leg kinematics give its
 // centre c. The filters assume a stance foot stands still, but a sphere rolls while the calf
 // turns over it: on the physics logs the centre moves at 0.05-0.06 m/s through every stance.
-// Flat ground is assumed here, with world normal n = e_z (not true on a ramp or a step).
+// Flat ground is assumed here, with world normal n = e_z (not true on a ramp or a step). It is
+// for feet that roll: the analytic simulator's foot centres stay put in stance, and there this
+// correction moves the point by 1.2 cm per stance instead (ESKF on the log of `legkit sim
+// --scenario trot --duration 20`: position RMSE 0.045 m without it, 0.384 m with it). On the log
+// of `legkit sim --scenario physics-trot --duration 60` it takes the ESKF's position RMSE from
+// 1.31 m to 0.58 m and its ANEES from 859 to 30 (the log's contact flags, R the estimate's).
 //
 // Derivation. The sphere turns with the calf, at world angular velocity
 //   w_calf = R (w + w_leg),   w_leg = dq1 e_x + Rx(q1) (dq2 + dq3) e_y     (body frame)
