@@ -126,3 +126,62 @@ TEST_CASE("monte carlo: a run whose estimator fails stops the study with its nam
     CHECK_THAT(e.what(), Catch::Matchers::Contains("(row 5): threw: planted failure"));
   }
 }
+
+namespace {
+
+// Says every foot is down, and throws at sample `at` (as a detector does for a negative dt).
+class Stubborn final : public contact::ContactDetector {
+ public:
+  explicit Stubborn(std::size_t at) : at_(at) {}
+  std::string name() const override { return "stubborn"; }
+  void reset() override { k_ = 0; }
+  contact::ContactEstimate update(const contact::ContactSignals& s) override {
+    if (k_++ == at_) throw std::invalid_argument("stubborn: planted at t = " + std::to_string(s.t));
+    contact::ContactEstimate e;
+    e.t = s.t;
+    e.num_feet = s.num_feet;
+    for (int foot = 0; foot < s.num_feet; ++foot) e.feet[foot] = {true, 1.0};
+    return e;
+  }
+
+ private:
+  std::size_t at_;
+  std::size_t k_ = 0;
+};
+
+}  // namespace
+
+TEST_CASE("runner: on a contact pipeline, the same failure rules; flags and slip per row",
+          "[eval]") {
+  const io::Log log = smallLog();  // joints at zero, no contact columns
+  PipelineOptions options;
+  options.contact = "stubborn";
+  ContactPipeline pipeline(log.layout, model::QuadrupedKinematics(), FrontendNoise{}, options,
+                           std::make_unique<Stubborn>(100));
+  Faulty healthy(Planted::kNone, 0);
+  eval::RunResult r = eval::runOnLog(healthy, log, pipeline, eval::initialState(log));
+  CHECK(r.ok());
+  CHECK(r.contact_source == "stubborn");
+  CHECK(r.slip_reaction == "none");
+  REQUIRE(r.detected_contact.size() == 20);
+  REQUIRE(r.slip.size() == 20);
+  CHECK(r.detected_contact[3][0]);
+  CHECK(r.detected_contact[3][3]);
+  CHECK_FALSE(r.detected_contact[3][4]);  // beyond the log's four feet
+  // The estimator's failure, as on the front end.
+  Faulty failing(Planted::kThrow, 7);
+  r = eval::runOnLog(failing, log, pipeline, eval::initialState(log));
+  REQUIRE(r.failed());
+  CHECK(r.failure->row == 7);
+  CHECK(r.trajectory.size() == 7);
+  CHECK(r.detected_contact.size() == 7);
+  // The pipeline's (its detector's) failure is the run's, located the same way.
+  ContactPipeline throwing(log.layout, model::QuadrupedKinematics(), FrontendNoise{}, options,
+                           std::make_unique<Stubborn>(4));
+  REQUIRE_NOTHROW(r = eval::runOnLog(healthy, log, throwing, eval::initialState(log)));
+  REQUIRE(r.failed());
+  CHECK(r.failure->row == 4);
+  CHECK(r.failure->where == "small.csv:7");
+  CHECK_THAT(r.failure->what, Catch::Matchers::Contains("threw: stubborn: planted"));
+  CHECK(r.trajectory.size() == 4);
+}
