@@ -12,6 +12,9 @@
 #include "eval/runner.hpp"
 #include "sim/physics_simulator.hpp"
 
+// This program counts its heap allocations (the header defines operator new: this file only).
+#include "allocation_counter.hpp"
+
 using namespace legkit;
 
 namespace {
@@ -270,4 +273,31 @@ TEST_CASE("frontend: the detector's answer weights each foot by p_c; unsure feet
   CHECK(in.contacts[1].probability == 0.6);
   CHECK(in.t == row.t);
   CHECK(in.imu.w_m == row.gyro);
+}
+
+TEST_CASE("pipeline: a step never allocates, whatever the detector and the slip reaction",
+          "[57.6][physics]") {
+  const io::Log& log = trotLog();
+  contact::DetectorContext context;
+  context.gait = plannedGait(trotOptions(3.0).scenario);
+  for (const char* contact : {"truth", "schmitt", "fallback", "kinematic", "momentum-observer"}) {
+    for (const slip::SlipReaction reaction :
+         {slip::SlipReaction::kNone, slip::SlipReaction::kInflate, slip::SlipReaction::kImuOnly}) {
+      INFO(contact << ", " << slip::slipReactionName(reaction));
+      PipelineOptions options;
+      options.contact = contact;
+      options.slip = reaction;
+      ContactPipeline pipeline(log.layout, model::QuadrupedKinematics(), FrontendNoise{}, options,
+                               context);
+      const std::unique_ptr<Estimator> eskf = makeEstimator("eskf");
+      eskf->reset(eval::initialState(log));
+      pipeline.reset();
+      const long before = test::allocationCount();
+      for (std::size_t k = 0; k < log.rows.size(); ++k) {
+        const double dt = k == 0 ? 0.0 : log.rows[k].t - log.rows[k - 1].t;
+        eskf->step(pipeline.step(log.rows[k], dt, eskf->estimate(), eskf->covariance()));
+      }
+      CHECK(test::allocationCount() == before);
+    }
+  }
 }
