@@ -1,6 +1,7 @@
-// `legkit study contact` end to end on short physics runs: the table has one row per physics
-// scenario and detector, its scores are in range, and the Schmitt trigger on the foot sensor
-// finds the trot's contacts well (section 57.6).
+// `legkit study contact` and `legkit study slip` end to end on short physics runs. Contact: one
+// row per physics scenario and detector, scores in range, the Schmitt trigger on the foot sensor
+// finds the trot's contacts well (57.6). Slip: one row per scenario, filter and reaction; the push
+// on ice found and handled, the terrain called ice (57.7).
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -109,4 +110,41 @@ TEST_CASE("study contact: every scenario x detector scored, Schmitt finds the tr
   CHECK(std::stod(schmitt.at("touchdown_delay_mean_ms")) >= 0.0);
   CHECK(std::stod(schmitt.at("touchdown_delay_mean_ms")) < 20.0);
   CHECK(std::stoi(schmitt.at("missed_touchdowns")) == 0);
+}
+
+TEST_CASE("study slip: every scenario x filter x reaction, the push on ice found and handled",
+          "[cli][57.7]") {
+  Folder dir("slip");
+  const fs::path output = dir.path / "output.txt";
+  // 4 s: physics-ice-push runs to 4.2 s, 1 s after its push.
+  const int status = legkit::test::spawnAndWait(
+      {LEGKIT_EXE, "study", "slip", "--duration", "4", "--no-plots", "--out", "out"},
+      dir.path.string(), output.string());
+  const std::string text = slurp(output);
+  INFO(text);
+  REQUIRE(status == 0);
+
+  const auto rows = readCsv(dir.path / "out" / "slip.csv");
+  REQUIRE(rows.size() == 4 * 4 * 4);  // scenarios x filters x reactions
+  std::map<std::string, std::map<std::string, std::string>> by;
+  for (const auto& r : rows)
+    by[r.at("scenario") + " " + r.at("filter") + " " + r.at("reaction")] = r;
+  // Every foot slides when pushed on ice; the check finds each slide within 50 ms.
+  const auto& none = by.at("physics-ice-push eskf none");
+  CHECK(std::stoi(none.at("slips")) >= 4);
+  CHECK(none.at("detected") == none.at("slips"));
+  CHECK(std::stod(none.at("delay_p95_ms")) < 50.0);
+  // IMU only while every foot slides: the ESKF's velocity error well below the one that trusts
+  // the sliding legs.
+  CHECK(std::stod(by.at("physics-ice-push eskf imu-only").at("velocity_rmse")) <
+        0.6 * std::stod(none.at("velocity_rmse")));
+
+  const auto terrain = readCsv(dir.path / "out" / "slip-terrain.csv");
+  REQUIRE(terrain.size() == 4);
+  for (const auto& r : terrain) {
+    if (r.at("scenario") != "physics-ice-push") continue;
+    CHECK(r.at("class") == "ice");
+    CHECK(std::stod(r.at("mu_hat")) == Approx(0.1).margin(0.05));
+  }
+  CHECK(readCsv(dir.path / "out" / "slip-sources.csv").size() == 4 * 4);  // sources x filters
 }
