@@ -489,6 +489,11 @@ int StudyContact::slip(std::ostream& out) const {
       slip::SlipReaction::kNone, slip::SlipReaction::kInflate, slip::SlipReaction::kDrop,
       slip::SlipReaction::kImuOnly};
   const std::vector<std::string> filters = filterNames();
+  const std::vector<std::string> detectors = contact::detectorNames();
+  if (contact_source_ != "truth" &&
+      std::find(detectors.begin(), detectors.end(), contact_source_) == detectors.end()) {
+    throw UsageError("--contact: neither truth nor a detector: " + contact_source_);
+  }
   Progress progress = stderrProgress();
   progress.run("slip, training the logistic model", 0, 1);
   const contact::LogisticModel logistic = eval::trainContactModel(seed_);
