@@ -148,3 +148,15 @@ TEST_CASE("study slip: every scenario x filter x reaction, the push on ice found
   }
   CHECK(readCsv(dir.path / "out" / "slip-sources.csv").size() == 4 * 4);  // sources x filters
 }
+
+TEST_CASE("study contact/slip: an unknown filter or contact source is a usage error", "[cli]") {
+  Folder dir("usage");
+  const std::string output = (dir.path / "output.txt").string();
+  CHECK(legkit::test::spawnAndWait({LEGKIT_EXE, "study", "contact", "--filter", "no-such-filter",
+                                    "--no-plots", "--out", "out"},
+                                   dir.path.string(), output) == 1);
+  CHECK(legkit::test::spawnAndWait({LEGKIT_EXE, "study", "slip", "--contact", "no-such-detector",
+                                    "--no-plots", "--out", "out"},
+                                   dir.path.string(), output) == 1);
+  CHECK(slurp(output).find("--contact") != std::string::npos);
+}
