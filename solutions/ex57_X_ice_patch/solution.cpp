@@ -2,11 +2,41 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "estimation/contact_pipeline.hpp"
 #include "estimation/estimators.hpp"
 #include "ex57_X.hpp"
 
 namespace ex57_X {
+
+PipelineEstimator::PipelineEstimator(const legkit::io::LogLayout& layout,
+                                     const std::string& estimator,
+                                     legkit::slip::SlipReaction reaction)
+    : estimator_(legkit::makeEstimator(estimator)) {
+  legkit::PipelineOptions options;
+  options.slip = reaction;
+  pipeline_ = std::make_unique<legkit::ContactPipeline>(
+      layout, legkit::model::QuadrupedKinematics{}, legkit::FrontendNoise{}, options);
+}
+
+bool PipelineEstimator::update(const legkit::io::LogRow& row, legkit::sim::BaseEstimate& out) {
+  if (!started_) {
+    legkit::EstimateSample x0;
+    x0.t = row.t;
+    x0.q = row.gt_q;
+    x0.v = row.gt_v;
+    x0.p = row.gt_p;
+    estimator_->reset(x0);
+  }
+  const double dt = started_ ? row.t - t_previous_ : 0.0;
+  started_ = true;
+  t_previous_ = row.t;
+  // The detection and the slip check use the estimate of the previous step (57.6's rule).
+  estimator_->step(pipeline_->step(row, dt, estimator_->estimate(), estimator_->covariance()));
+  const legkit::EstimateSample x = estimator_->estimate();
+  out.R = x.q.toRotationMatrix();
+  out.p = x.p;
+  out.v = x.v;
+  return true;
+}
 
 IceRun runOnIce(const legkit::io::Log& log, const legkit::sim::FrictionPatch& ice,
                 const std::string& estimator, legkit::slip::SlipReaction reaction) {
@@ -14,23 +44,13 @@ IceRun runOnIce(const legkit::io::Log& log, const legkit::sim::FrictionPatch& ic
     throw std::invalid_argument("runOnIce: the log needs joints, ground truth and contact truth");
   IceRun run;
   if (log.rows.empty()) return run;
-  legkit::PipelineOptions options;
-  options.slip = reaction;
   const legkit::model::QuadrupedKinematics kin;
-  legkit::ContactPipeline pipeline(log.layout, kin, legkit::FrontendNoise{}, options);
-  const std::unique_ptr<legkit::Estimator> filter = legkit::makeEstimator(estimator);
-  const legkit::io::LogRow& first = log.rows.front();
-  legkit::EstimateSample x0;
-  x0.t = first.t;
-  x0.q = first.gt_q;
-  x0.v = first.gt_v;
-  x0.p = first.gt_p;
-  filter->reset(x0);
+  PipelineEstimator filter(log.layout, estimator, reaction);
   double sum_sq = 0.0;
   for (std::size_t k = 0; k < log.rows.size(); ++k) {
     const legkit::io::LogRow& row = log.rows[k];
-    const double dt = k == 0 ? 0.0 : row.t - log.rows[k - 1].t;
-    filter->step(pipeline.step(row, dt, filter->estimate(), filter->covariance()));
+    legkit::sim::BaseEstimate x;
+    filter.update(row, x);
     const legkit::io::FootTruth& foot = row.gt_feet[kIceFoot];
     if (std::isnan(run.first_true_slip) && foot.contact && foot.slip_speed > kSlipSpeed) {
       const Eigen::Vector3d at =
@@ -40,9 +60,8 @@ IceRun runOnIce(const legkit::io::Log& log, const legkit::sim::FrictionPatch& ic
       if (on_ice) run.first_true_slip = row.t;
     }
     if (!std::isnan(run.first_true_slip) && std::isnan(run.first_detection) &&
-        pipeline.slipReport().slipping(kIceFoot))
+        filter.pipeline().slipReport().slipping(kIceFoot))
       run.first_detection = row.t;
-    const legkit::EstimateSample x = filter->estimate();
     sum_sq += (x.v - row.gt_v).squaredNorm();
     if (k + 1 == log.rows.size()) run.position_error = (x.p - row.gt_p).norm();
   }

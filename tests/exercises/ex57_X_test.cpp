@@ -97,3 +97,34 @@ TEST_CASE("57.X slip handling: the estimate with and without", "[ex57.X][hint 2]
   REQUIRE_BELOW(drop.velocity_rmse, 0.8 * none.velocity_rmse);
   REQUIRE_BELOW(inflate.velocity_rmse, 0.8 * none.velocity_rmse);
 }
+
+TEST_CASE("57.X the naive controller on the estimate, with and without slip handling",
+          "[ex57.X][hint 3]") {
+  // 10 s of physics-ice, seed 5790: the controller on the truth, then on your PipelineEstimator
+  // (invariant-ekf) in closed loop, without slip handling and dropping the sliding foot.
+  legkit::io::LogLayout layout;  // what the physics simulator writes
+  layout.joints = layout.torque = layout.force = layout.contact = true;
+  layout.ground_truth = layout.contact_truth = true;
+  ex57_X::PipelineEstimator none(layout, "invariant-ekf", SlipReaction::kNone);
+  ex57_X::PipelineEstimator drop(layout, "invariant-ekf", SlipReaction::kDrop);
+  const auto run = [](legkit::sim::BaseStateSource* source) {
+    legkit::sim::PhysicsOptions options = legkit::sim::PhysicsOptions::forScenario("physics-ice");
+    options.seed = 5790;
+    options.closed_loop = source;
+    return legkit::sim::simulatePhysics(options).status;
+  };
+  const legkit::sim::PhysicsStatus on_truth = run(nullptr);
+  const legkit::sim::PhysicsStatus on_none = run(&none);
+  const legkit::sim::PhysicsStatus on_drop = run(&drop);
+  INFO("the naive controller on the ice falls at "
+       << on_truth.time << " s on the truth (" << on_truth.reason << "), at " << on_none.time
+       << " s on the invariant-ekf without slip handling (" << on_none.reason << "), at "
+       << on_drop.time << " s with the sliding foot dropped (" << on_drop.reason << ")");
+  REQUIRE(on_truth.fell);
+  REQUIRE(on_none.fell);
+  REQUIRE(on_drop.fell);
+  // The estimate's error brings the fall a second or more forward, slip handling or not: the
+  // estimator cannot make an infeasible force plan feasible.
+  REQUIRE_BELOW(on_none.time, on_truth.time - 1.0);
+  REQUIRE_BELOW(on_drop.time, on_truth.time - 1.0);
+}
