@@ -53,7 +53,7 @@ Group randomGroup(std::mt19937& gen, int columns) {
   return Group(lie::SO3d::Random(gen), C);
 }
 
-ContactMeasurement contact(int foot, const Vector3d& p_body, double sigma) {
+ContactMeasurement foothold(int foot, const Vector3d& p_body, double sigma) {
   ContactMeasurement c;
   c.foot = foot;
   c.p_body = p_body;
@@ -146,8 +146,8 @@ TEST_CASE("InEKF: one step equals the dense textbook formulas", "[57.5][inekf]")
     filter.reset(x0);
     const model::ImuReading u0{normal3(gen, 1.0), normal3(gen, 5.0)};
     const model::ImuReading u1{normal3(gen, 1.0), normal3(gen, 5.0)};
-    const ContactMeasurement c0 = contact(0, normal3(gen, 0.3), 0.01);
-    const ContactMeasurement c2 = contact(2, normal3(gen, 0.3), 0.02);
+    const ContactMeasurement c0 = foothold(0, normal3(gen, 0.3), 0.01);
+    const ContactMeasurement c2 = foothold(2, normal3(gen, 0.3), 0.02);
     filter.step(input(0.0, 0.0, u0, {c0, c2}));  // feet 0 and 2 become columns 2 and 3
     REQUIRE(filter.numFeet() == 2);
     REQUIRE(filter.columnOf(0) == 2);
@@ -159,9 +159,9 @@ TEST_CASE("InEKF: one step equals the dense textbook formulas", "[57.5][inekf]")
     CHECK(maxAbs(P0.block(9, 0, 3, 9) - P0.block(6, 0, 3, 9)) == 0.0);
 
     const double dt = 0.004;
-    const ContactMeasurement c0b = contact(0, normal3(gen, 0.3), 0.01);
-    const ContactMeasurement c2b = contact(2, normal3(gen, 0.3), 0.03);
-    const ContactMeasurement c3 = contact(3, normal3(gen, 0.3), 0.01);
+    const ContactMeasurement c0b = foothold(0, normal3(gen, 0.3), 0.01);
+    const ContactMeasurement c2b = foothold(2, normal3(gen, 0.3), 0.03);
+    const ContactMeasurement c3 = foothold(3, normal3(gen, 0.3), 0.01);
     filter.step(input(dt, dt, u1, {c2b, c3, c0b}));  // order of the contacts is irrelevant
 
     // Propagation with u0 (the held sample), biases zero.
@@ -276,7 +276,7 @@ TEST_CASE("InEKF: contacts added and removed keep P symmetric positive definite"
   for (int k = 0; k < 400; ++k) {
     std::vector<ContactMeasurement> stance;
     for (int foot = 0; foot < inekf::kMaxFeet; ++foot) {
-      if (coin(gen)) stance.push_back(contact(foot, foot_body[foot] + normal3(gen, 0.005), 0.005));
+      if (coin(gen)) stance.push_back(foothold(foot, foot_body[foot] + normal3(gen, 0.005), 0.005));
     }
     const model::ImuReading u{normal3(gen, 0.2), Vector3d(0, 0, 9.81) + normal3(gen, 0.2)};
     filter.step(input(k * 1e-3, k == 0 ? 0.0 : 1e-3, u, stance));
@@ -303,7 +303,7 @@ TEST_CASE("InEKF: contacts added and removed keep P symmetric positive definite"
   filter.step(input(1.0, 0.0, {}, {}));
   REQUIRE(filter.numFeet() == 0);
   const MatrixXd empty = filter.P();
-  filter.step(input(1.0, 0.0, {}, {contact(2, foot_body[2], 0.005)}));
+  filter.step(input(1.0, 0.0, {}, {foothold(2, foot_body[2], 0.005)}));
   const MatrixXd held = filter.P();
   REQUIRE(held.rows() == 18);
   CHECK(held.topLeftCorner(9, 9) == empty.topLeftCorner(9, 9));
@@ -320,8 +320,8 @@ TEST_CASE("InEKF: a correction reduces the covariance along H and nowhere grows 
           "[57.5][inekf]") {
   InvariantEkf filter;
   filter.reset(EstimateSample{});
-  const ContactMeasurement c1 = contact(1, Vector3d(0.2, -0.1, -0.3), 0.01);
-  const ContactMeasurement c3 = contact(3, Vector3d(-0.2, 0.1, -0.3), 0.01);
+  const ContactMeasurement c1 = foothold(1, Vector3d(0.2, -0.1, -0.3), 0.01);
+  const ContactMeasurement c3 = foothold(3, Vector3d(-0.2, 0.1, -0.3), 0.01);
   const model::ImuReading still{Vector3d::Zero(), Vector3d(0, 0, 9.81)};
   filter.step(input(0.0, 0.0, still, {c1, c3}));
   // Hold both feet for 0.2 s with their measurements made nearly useless (huge covariance), so
@@ -866,7 +866,8 @@ TEST_CASE("InEKF: a hexapod standing holds six feet and stays at the truth", "[5
   std::vector<ContactMeasurement> feet;
   for (int i = 0; i < 6; ++i) {
     const double angle = i * M_PI / 3.0;
-    feet.push_back(contact(i, Vector3d(0.4 * std::cos(angle), 0.4 * std::sin(angle), -0.3), 0.005));
+    feet.push_back(
+        foothold(i, Vector3d(0.4 * std::cos(angle), 0.4 * std::sin(angle), -0.3), 0.005));
   }
   const model::ImuReading still{Vector3d::Zero(), Vector3d(0, 0, 9.81)};
   for (int k = 0; k <= 2000; ++k) filter.step(input(k * 1e-3, k == 0 ? 0.0 : 1e-3, still, feet));
