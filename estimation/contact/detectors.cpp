@@ -45,7 +45,7 @@ std::unique_ptr<ContactDetector> makeDetector(const std::string& name, const Det
   }
   if (name == "fallback") {
     std::vector<std::unique_ptr<ContactDetector>> chain;
-    for (const char* n : {"schmitt", "schmitt-torque", "momentum-observer", "kinematic"})
+    for (const char* n : {"schmitt", "momentum-observer", "kinematic"})
       chain.push_back(makeDetector(n, c));
     if (c.gait) chain.push_back(makeDetector("gait-clock", c));
     return std::make_unique<FallbackDetector>(std::move(chain));

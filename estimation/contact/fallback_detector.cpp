@@ -18,41 +18,58 @@ FallbackDetector::FallbackDetector(std::vector<std::unique_ptr<ContactDetector>>
     name_ += (k == 0 ? "" : ">") + order_[k]->name();
   }
   source_.fill(-1);
+  ran_prev_.fill(true);
 }
 
 void FallbackDetector::reset() {
   for (const std::unique_ptr<ContactDetector>& d : order_) d->reset();
   reports_ = FallbackReports{};
   source_.fill(-1);
+  ran_prev_.fill(true);
 }
 
 ContactEstimate FallbackDetector::update(const ContactSignals& signals) {
   checkSignals(signals, "fallback");
-  // Every detector sees every sample; only the first usable answer per foot is kept.
-  std::array<ContactEstimate, kMaxChain> answers;
-  const int n = size();
-  for (int k = 0; k < n; ++k) answers[k] = order_[k]->update(signals);
-
   ContactEstimate out;
   out.t = signals.t;
   out.num_feet = signals.num_feet;
+  // pending[i]: foot i has no usable answer yet and goes on down the chain.
+  std::array<bool, kMaxFeet> pending{};
   for (int i = 0; i < signals.num_feet; ++i) {
+    pending[i] = true;
     source_[i] = -1;
-    for (int k = 0; k < n; ++k) {
-      const FootContact& a = answers[k].feet[i];
-      out.feet[i] = a;
-      if (a.usable()) {
-        source_[i] = k;
-        ++reports_.answered[i][k];
-        break;
-      }
-      ++reports_.failed[i][k];
-      const FallbackReport r{i, signals.t, k, a.problem};
-      if (reports_.first.problem == nullptr) reports_.first = r;
-      reports_.last = r;
-    }
-    if (source_[i] < 0) ++reports_.undecided[i];
   }
+  int num_pending = signals.num_feet;
+  const int n = size();
+  for (int k = 0; k < n; ++k) {
+    const bool run = num_pending > 0;
+    if (run) {
+      if (!ran_prev_[k]) {
+        order_[k]->reset();  // idle since before the previous sample: start clean
+        ++reports_.restarts[k];
+      }
+      ++reports_.ran[k];
+      const ContactEstimate answer = order_[k]->update(signals);
+      for (int i = 0; i < signals.num_feet; ++i) {
+        if (!pending[i]) continue;
+        const FootContact& a = answer.feet[i];
+        out.feet[i] = a;
+        if (a.usable()) {
+          source_[i] = k;
+          ++reports_.answered[i][k];
+          pending[i] = false;
+          --num_pending;
+          continue;
+        }
+        ++reports_.failed[i][k];
+        const FallbackReport r{i, signals.t, k, a.problem};
+        if (reports_.first.problem == nullptr) reports_.first = r;
+        reports_.last = r;
+      }
+    }
+    ran_prev_[k] = run;
+  }
+  for (int i = 0; i < signals.num_feet; ++i) reports_.undecided[i] += pending[i] ? 1 : 0;
   return out;
 }
 

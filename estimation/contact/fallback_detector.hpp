@@ -3,8 +3,17 @@
 // goes negative hands that foot to the next detector (say the force estimated from the joint
 // torques, then the kinematic detector, then the gait clock) instead of reporting "no contact";
 // every hand-over is counted, and the first and the last are kept with the foot, the time, the
-// detector that failed and its reason. Every detector of the chain runs on every sample (their
-// timers and integrals stay current), so a foot can move to a later detector and back.
+// detector that failed and its reason.
+//
+// Lazy: the chain costs only what it uses. At each sample detector k runs only when some foot
+// needs it, i.e. every detector before k had a problem for that foot; while every foot is healthy
+// only the first detector runs, so the chain costs what that detector costs. A detector that was
+// not run at the previous sample is reset() before it runs again: it starts clean rather than
+// from timers and integrals that stopped at its last run. Its first samples are then a cold
+// start: a Schmitt trigger on the torques starts at "no contact" and needs T_on to switch on; the
+// kinematic detector re-anchors its ground height to the lowest foot; a momentum observer
+// answers "momentum observer converging" for its settle_time (60 ms by default), and for those
+// samples the foot goes on to the next detector (the kinematic one in the recommended chain).
 #pragma once
 
 #include <array>
@@ -33,6 +42,9 @@ struct FallbackReports {
   std::array<std::array<long, kMaxChain>, kMaxFeet> failed{}, answered{};
   // Samples on which no detector of the chain could decide for the foot.
   std::array<long, kMaxFeet> undecided{};
+  // ran[k]: samples on which detector k ran (update() called); restarts[k]: how many of those
+  // began with a reset() because it had not run at the sample before.
+  std::array<long, kMaxChain> ran{}, restarts{};
   FallbackReport first, last;
 };
 
@@ -46,7 +58,8 @@ class FallbackDetector : public ContactDetector {
   // Resets every detector of the chain and the reports.
   void reset() override;
   // Per foot the first usable answer in the chain's order; when none is usable, the last
-  // detector's answer (its problem set: never a silent "no contact").
+  // detector's answer (its problem set: never a silent "no contact"). Runs detector k only for
+  // the feet that reach it (see above).
   ContactEstimate update(const ContactSignals& signals) override;
 
   const FallbackReports& reports() const { return reports_; }
@@ -60,6 +73,9 @@ class FallbackDetector : public ContactDetector {
   std::string name_;
   FallbackReports reports_;
   std::array<int, kMaxFeet> source_{};
+  // Whether detector k ran at the previous sample (true after construction and reset(): a fresh
+  // detector needs no reset).
+  std::array<bool, kMaxChain> ran_prev_{};
 };
 
 }  // namespace legkit::contact
