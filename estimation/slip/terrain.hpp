@@ -21,6 +21,20 @@
 //
 // Forces are the ground reaction on each foot in the world frame, by foot id (detect1's
 // FootForceFromTorque output, or a force sensor's); a non-finite force is skipped.
+//
+// Forces estimated from the joint torques. The estimate leaves out the leg's own acceleration, so
+// it is worst at touchdown, where the swing leg brakes, and that is where most slips are flagged:
+// the foot's impact slide, which is not a foot at the edge of its friction cone either. On the
+// dry physics trot (mu 0.6) the onsets flagged 3 ms after touchdown read |f_t| / f_n = 0.10-0.13
+// from the estimate (0.25-0.27 true), and mu_hat came out 0.114: "ice". Two guards, both off by
+// default (exact forces) and set by estimatedForceParams():
+//   min_loaded_time  a ratio is a sample (of mu at an onset, or of the lower bound) only once the
+//                    foot has been in stance with f_n >= min_normal_force for this long, the
+//                    sample's own dt included: the touchdown transient is over;
+//   min_slip_time    an onset gives its ratio (taken at the onset) only once the slip has been
+//                    flagged for this long, the onset's own dt included: a flag that drops within
+//                    a few samples is more often the detector's false alarm than a slide.
+// Measured on `legkit study slip`'s inputs (tests/slip/terrain_physics_test.cpp).
 #pragma once
 
 #include <Eigen/Core>
@@ -41,14 +55,21 @@ struct TerrainParams {
   double min_normal_force = 20.0;  // [N] a force sample counts only above this
   int min_onsets = 3;              // slip onsets before mu_hat decides
   double min_stance_time = 2.0;    // [s] of stance foot-time before the no-slip evidence decides
+  double min_loaded_time = 0.0;    // [s] loaded stance before a ratio counts (see above)
+  double min_slip_time = 0.0;      // [s] a slip must hold before its onset counts (see above)
 };
+
+// The parameters for forces estimated from the joint torques (contact::FootForceFromTorque):
+// min_loaded_time 30 ms (a tenth of the trot's 300 ms stance), min_slip_time 5 ms (five samples
+// at 1 kHz); the rest as TerrainParams{}.
+TerrainParams estimatedForceParams();
 
 class TerrainClassifier {
  public:
   static constexpr int kOnsetMemory = 16;
 
   // Throws std::invalid_argument for thresholds that are not 0 < ice_mu < high_grip_mu, a
-  // negative force bound, min_onsets < 1 or a negative stance time.
+  // negative force bound, min_onsets < 1 or a negative stance, loaded or slip time.
   explicit TerrainClassifier(const TerrainParams& params = {});
 
   void reset();
@@ -73,6 +94,10 @@ class TerrainClassifier {
   TerrainParams params_;
   Eigen::Vector3d normal_ = Eigen::Vector3d::UnitZ();
   std::array<bool, kMaxFeet> was_slipping_{};
+  std::array<double, kMaxFeet> loaded_time_{};  // stance with f_n >= min_normal_force so far [s]
+  std::array<double, kMaxFeet> slip_held_{};    // flagged slipping since the onset [s]
+  // The ratio taken at the foot's current slip's onset, waiting for min_slip_time; NaN: none.
+  std::array<double, kMaxFeet> onset_ratio_{};
   std::array<double, kOnsetMemory> onset_mu_{};
   int onsets_ = 0;       // onsets with a usable force since reset (the ring holds the last ones)
   int slip_onsets_ = 0;  // every onset, with or without a usable force

@@ -96,11 +96,13 @@ struct PipelineRun {
 };
 
 // The terrain classifier of 57.7 fed along a run: each row's slip check and the ground forces
-// estimated from the joint torques (FootForceFromTorque, with the filter's previous estimate).
+// estimated from the joint torques (FootForceFromTorque, with the filter's previous estimate),
+// with the classifier's guards for estimated forces (slip::estimatedForceParams: a ratio counts
+// only 30 ms into a loaded stance, an onset only once its slip has held 5 ms).
 struct TerrainWatch {
   contact::FootForceFromTorque forces{model::QuadrupedGeometry::go2(),
                                       model::QuadrupedInertia::go2()};
-  slip::TerrainClassifier classifier;
+  slip::TerrainClassifier classifier{slip::estimatedForceParams()};
 };
 
 // Runs `filter` over the log, each row's input from the pipeline given the filter's estimate and
@@ -615,7 +617,8 @@ int StudyContact::slip(std::ostream& out) const {
   out << "\nEvery filter with each slip reaction:\n\n";
   printTable(out, accuracy);
   out << "\nTerrain classes at the end of each run (invariant-ekf, reaction none; forces from the "
-         "joint torques; slip rate per second and share of stance foot-time slipping):\n\n";
+         "joint torques: a ratio counts 30 ms into a loaded stance, a slip onset once its slip has "
+         "held 5 ms; slip rate per second and share of stance foot-time slipping):\n\n";
   printTable(out, terrain_table);
   out << "\nEvery filter on physics-trot, true against detected contacts (no slip reaction):\n\n";
   printTable(out, sources_table);
