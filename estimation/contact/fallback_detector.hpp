@@ -14,6 +14,9 @@
 // kinematic detector re-anchors its ground height to the lowest foot; a momentum observer
 // answers "momentum observer converging" for its settle_time (60 ms by default), and for those
 // samples the foot goes on to the next detector (the kinematic one in the recommended chain).
+// Measured (`bench_pipeline --benchmark_filter=eskf`, CPU per ESKF step on the physics trot, load
+// ~2.5): the recommended chain 5.67 us against 5.64 us for the sensor Schmitt alone; 14.7 us when
+// every detector ran on every sample.
 #pragma once
 
 #include <array>
