@@ -252,17 +252,18 @@ void LinearKf::predict(double dt, const Eigen::Vector3d& f_w) {
 bool LinearKf::updateStance(const StepInput& in, const Eigen::Vector3d* w_m,
                             const Eigen::Matrix3d& Sigma_theta) {
   const Eigen::Matrix3d& R_hat = attitude_.R().matrix();
-  // The velocity: the mean base velocity of the k stance feet that carry r_dot, from a virtual
-  // foot at their centroid.
+  // The velocity: the base velocity of the stance feet that carry r_dot, averaged with weights
+  // p_c (Cov(r_dot_i) = sigma_rdot^2 / p_c), from a virtual foot at their weighted centroid.
   Eigen::Vector3d r_bar = Eigen::Vector3d::Zero(), r_dot_bar = Eigen::Vector3d::Zero();
   Eigen::Matrix3d cov_r_bar = Eigen::Matrix3d::Zero();
-  int k = 0;
+  double W = 0.0;  // sum of the weights p_c
   for (const ContactMeasurement& c : in.stance()) {
-    if (!w_m || !c.v_body) continue;
-    r_bar += c.p_body;
-    r_dot_bar += *c.v_body;
-    cov_r_bar += c.cov;
-    ++k;
+    if (!w_m || !c.v_body || !(c.probability > 0.0)) continue;
+    const double p_c = c.probability;
+    r_bar += p_c * c.p_body;
+    r_dot_bar += p_c * *c.v_body;
+    cov_r_bar += (p_c * p_c) * c.cov;
+    W += p_c;
   }
   const Eigen::Vector3d w = w_m ? Eigen::Vector3d(*w_m - attitude_.b_g()) : Eigen::Vector3d::Zero();
 
@@ -272,20 +273,23 @@ bool LinearKf::updateStance(const StepInput& in, const Eigen::Vector3d* w_m,
     st.at[i] = footIndex(c.foot);
     st.z[i] = R_hat * c.p_body;                     // z_i = R_hat r_i
     st.own[i] = R_hat * c.cov * R_hat.transpose();  // R_hat Cov(r_i) R_hat^T
-    // dz_i = R_hat dr_i, dz_v = -R_hat [w]_x dr_i / k + ...: R_hat Cov(r_i) / k [w]_x R_hat^T
-    st.with_v[i] = k > 0 && c.v_body
-                       ? Eigen::Matrix3d(st.own[i] * R_hat * lie::hat3(w) * R_hat.transpose() / k)
-                       : Eigen::Matrix3d::Zero();
+    // dz_i = R_hat dr_i, dz_v = -R_hat [w]_x p_c dr_i / W + ...:
+    // R_hat Cov(r_i) (p_c / W) [w]_x R_hat^T
+    const double share = W > 0.0 && c.v_body && c.probability > 0.0 ? c.probability / W : 0.0;
+    st.with_v[i] =
+        share > 0.0 ? Eigen::Matrix3d(st.own[i] * R_hat * lie::hat3(w) * R_hat.transpose() * share)
+                    : Eigen::Matrix3d::Zero();
   }
   st.blocks = st.feet;
-  if (k > 0) {
-    r_bar /= k;
-    r_dot_bar /= k;
-    cov_r_bar /= static_cast<double>(k * k);  // Cov(mean) = sum Cov(r_i) / k^2
+  if (W > 0.0) {
+    r_bar /= W;
+    r_dot_bar /= W;
+    cov_r_bar /= W * W;  // Cov(weighted mean) = sum p_c^2 Cov(r_i) / W^2
     leg_odometry::FootVelocityNoise noise;
     const double sg = params_.imu.gyro_noise_density, sr = params_.foot_velocity_sigma;
     noise.gyro_cov = Eigen::Matrix3d::Identity() * (sg * sg / in.dt);  // one gyro sample
-    noise.r_dot_cov = Eigen::Matrix3d::Identity() * (sr * sr / k);
+    // sum p_c^2 (sigma_rdot^2 / p_c) / W^2 = sigma_rdot^2 / W (sigma_rdot^2 / k for hard feet)
+    noise.r_dot_cov = Eigen::Matrix3d::Identity() * (sr * sr / W);
     const int v = st.blocks++;
     st.at[v] = kV;
     st.z[v] = leg_odometry::baseVelocityFromFoot(R_hat, w, r_bar, r_dot_bar);  // z_v

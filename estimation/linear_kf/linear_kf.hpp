@@ -40,19 +40,22 @@
 //
 // Optional velocity measurement (leg odometry, section 57.3), on by default: with the stance feet
 // that carry a body-frame velocity r_dot_i, the mean of their base velocities
-// v_i = -R_hat (w x r_i + r_dot_i) equals the velocity from one virtual foot at the centroid,
-//   z_v = -R_hat (w x r_bar + r_dot_bar),    r_bar = mean r_i,  r_dot_bar = mean r_dot_i,
-// with w = w_m - b_g_hat, so leg_odometry::baseVelocityFromFoot / baseVelocityCovariance give it
-// and its own covariance directly, with Cov(r_bar) = sum Cov(r_i) / k^2, Cov(r_dot_bar) =
-// sigma_rdot^2 I / k, and the gyro sample noise sigma_g^2 / dt counted once (it is common to all
-// feet, so averaging does not reduce it). Its attitude part is [z_v]_x theta. H_v = [0 I 0 ...].
+// v_i = -R_hat (w x r_i + r_dot_i), weighted by their contact probabilities p_c,i (a foot's
+// Cov(r_dot_i) = sigma_rdot^2 I / p_c,i: the contact term of 57.6's soft R_i; p_c = 0 drops it),
+// equals the velocity from one virtual foot at the weighted centroid,
+//   z_v = -R_hat (w x r_bar + r_dot_bar),    r_bar = sum p_c,i r_i / W,  r_dot_bar likewise,
+// W = sum p_c,i, with w = w_m - b_g_hat, so leg_odometry::baseVelocityFromFoot /
+// baseVelocityCovariance give it and its own covariance directly, with Cov(r_bar) =
+// sum p_c,i^2 Cov(r_i) / W^2, Cov(r_dot_bar) = sigma_rdot^2 I / W (hard feet: W = k, the plain
+// mean), and the gyro sample noise sigma_g^2 / dt counted once (it is common to all feet, so
+// averaging does not reduce it). Its attitude part is [z_v]_x theta. H_v = [0 I 0 ...].
 //
 // One stacked update. The measurements of a sample are NOT independent: every block carries the
 // same attitude error theta, and the velocity shares the feet's kinematic noise through r_bar.
 // So all stance feet and the velocity form one measurement of at most 3 x 4 + 3 = 15 rows, with
 // the full noise covariance, block (a, b):
 //   R_ab = delta_ab Own_a + [z_a]_x Sigma_theta [z_b]_x^T          (attitude: every pair)
-//        + R_hat Cov(r_i) / k [w]_x R_hat^T   for a = foot i with r_dot_i, b = the velocity
+//        + R_hat Cov(r_i) (p_c,i / W) [w]_x R_hat^T   for a = foot i with r_dot_i, b = the velocity
 // (the last from dz_i = R_hat dr_i and dz_v = -R_hat [w]_x dr_bar; its transpose for (v, i)).
 // Processing the blocks one after the other with their diagonal R_aa alone would drop the
 // off-diagonal blocks and claim more information than there is (the tests measure by how much).

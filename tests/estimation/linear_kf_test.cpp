@@ -160,8 +160,9 @@ void denseUpdate(Vector18& x, Matrix18& P, const MatrixX& H, const VectorX& z, c
 }
 
 // The measurement of one sample, built densely and independently of the filter: z and H stacked
-// over the stance feet and the mean leg velocity, and R = J Sigma J^T from the Jacobian J of z in
-// every noise source, [dr_1..dr_n, dr_dot_1..dr_dot_n, dw, theta], Sigma their covariance.
+// over the stance feet and the mean leg velocity (weights p_c,i / W, W = sum p_c,i; a foot's
+// Cov(r_dot_i) = sigma^2 / p_c,i), and R = J Sigma J^T from the Jacobian J of z in every noise
+// source, [dr_1..dr_n, dr_dot_1..dr_dot_n, dw, theta], Sigma their covariance.
 struct DenseMeasurement {
   VectorX z;
   MatrixX H, Rn;
@@ -176,10 +177,14 @@ DenseMeasurement denseMeasurement(const StepInput& in, const Eigen::Matrix3d& R,
   const int dw = 6 * n, th = 6 * n + 3;  // columns of dw and theta in J
   Sigma.block<3, 3>(dw, dw) = std::pow(params.imu.gyro_noise_density, 2) / in.dt * I3;
   Sigma.block<3, 3>(th, th) = Sigma_theta;
+  double W = 0.0;
+  for (int i = 0; i < n; ++i) W += in.contacts[i].probability;
   for (int i = 0; i < n; ++i) {
     const ContactMeasurement& c = in.contacts[i];
     Sigma.block<3, 3>(3 * i, 3 * i) = c.cov;
-    Sigma.block<3, 3>(3 * n + 3 * i, 3 * n + 3 * i) = std::pow(params.foot_velocity_sigma, 2) * I3;
+    if (c.probability > 0.0)  // p_c = 0: no weight, its (zero) column of J needs no variance
+      Sigma.block<3, 3>(3 * n + 3 * i, 3 * n + 3 * i) =
+          std::pow(params.foot_velocity_sigma, 2) / c.probability * I3;
     // z_i = R r_i = d_i - p, off by [z_i]_x theta
     d.z.segment<3>(3 * i) = R * c.p_body;
     d.H.block<3, 18>(3 * i, 0) = footMeasurementMatrix(c.foot);
@@ -187,14 +192,15 @@ DenseMeasurement denseMeasurement(const StepInput& in, const Eigen::Matrix3d& R,
     J.block<3, 3>(3 * i, th) = lie::hat3(R * c.p_body);
   }
   if (velocity) {
-    // z_v = mean of -R (w x r_i + r_dot_i) = v, off by [z_v]_x theta
+    // z_v = weighted mean of -R (w x r_i + r_dot_i) = v, off by [z_v]_x theta
     const int v = 3 * n;
     for (int i = 0; i < n; ++i) {
       const ContactMeasurement& c = in.contacts[i];
-      d.z.segment<3>(v) += leg_odometry::baseVelocityFromFoot(R, w, c) / n;
-      J.block<3, 3>(v, 3 * i) = -R * lie::hat3(w) / n;      // d/dr_i
-      J.block<3, 3>(v, 3 * n + 3 * i) = -R / n;             // d/dr_dot_i
-      J.block<3, 3>(v, dw) += R * lie::hat3(c.p_body) / n;  // d/dw
+      const double a = c.probability / W;  // 1 / n for hard feet
+      d.z.segment<3>(v) += leg_odometry::baseVelocityFromFoot(R, w, c) * a;
+      J.block<3, 3>(v, 3 * i) = -R * lie::hat3(w) * a;      // d/dr_i
+      J.block<3, 3>(v, 3 * n + 3 * i) = -R * a;             // d/dr_dot_i
+      J.block<3, 3>(v, dw) += R * lie::hat3(c.p_body) * a;  // d/dw
     }
     d.H.block<3, 18>(v, 0) = velocityMeasurementMatrix();
     J.block<3, 3>(v, th) = lie::hat3(d.z.segment<3>(v));
@@ -302,6 +308,57 @@ TEST_CASE("LKF: one step equals the exact stacked update, the old sequential one
     CHECK(over > 1.0005);
     CHECK(Pt.trace() > P.topLeftCorner<6, 6>().trace());
   }
+}
+
+TEST_CASE("LKF: the leg velocity weights each foot by its contact probability",
+          "[57.4][linear_kf]") {
+  // A foot of contact probability p_c counts in the velocity measurement as a foot whose r_dot
+  // noise is sigma^2 / p_c (57.6's soft R): one stacked step with p_c = (1, 0.4, 0, ...) equals
+  // the dense update with those weights, and the foot at p_c = 0 leaves no trace of its r_dot.
+  const io::Log log = trotLog(2.5, 3, false);
+  const std::vector<StepInput> inputs = inputsOf(log);
+  std::size_t k = 1600;
+  while (inputs[k + 1].num_contacts < 2) ++k;
+  StepInput soft = inputs[k + 1];
+  REQUIRE(soft.contacts[0].v_body);
+  REQUIRE(soft.contacts[1].v_body);
+  soft.contacts[0].probability = 0.4;
+  soft.contacts[1].probability = 0.0;
+  StepInput no_rate = soft;  // the foot at p_c = 0 without its r_dot
+  no_rate.contacts[1].v_body.reset();
+
+  const LinearKfParams params;
+  LinearKf filter(params), twin(params);
+  filter.reset(eval::initialState(log));
+  twin.reset(eval::initialState(log));
+  for (std::size_t j = 0; j <= k; ++j) {
+    filter.step(inputs[j]);
+    twin.step(inputs[j]);
+  }
+  Vector18 x = filter.x();
+  Matrix18 P = filter.P();
+  const Eigen::Matrix3d R_before = filter.attitude().R().matrix();
+  filter.step(soft);
+  twin.step(no_rate);
+  const Eigen::Matrix3d R_after = filter.attitude().R().matrix();
+  const Eigen::Matrix3d Sigma_theta = filter.attitude().attitudeCovariance();
+  // The prediction with the contacts of sample k (all hard), as in the test above.
+  ContactMask down_k{};
+  for (const ContactMeasurement& c : inputs[k].stance()) down_k[c.foot] = true;
+  const ProcessModel m = processModel(soft.dt, down_k, params.processNoise());
+  const Eigen::Vector3d f_w = R_before * inputs[k].imu.a_m;
+  const Eigen::Matrix3d C = lie::hat3(f_w) * Sigma_theta * lie::hat3(f_w).transpose();
+  x = m.F * x + m.B * (f_w + model::gravity());
+  P = m.F * P * m.F.transpose() + m.Q +
+      m.B * (2.0 * params.attitude_correlation_time * C / soft.dt) * m.B.transpose();
+  const double P_scale = P.cwiseAbs().maxCoeff();
+  const Eigen::Vector3d w = soft.imu.w_m - filter.attitude().b_g();
+  const DenseMeasurement d = denseMeasurement(soft, R_after, w, Sigma_theta, params, true);
+  denseUpdate(x, P, d.H, d.z, d.Rn);
+  CHECK((filter.x() - x).cwiseAbs().maxCoeff() < 1e-12);
+  CHECK((filter.P() - P).cwiseAbs().maxCoeff() / P_scale < 1e-12);
+  CHECK((filter.x() - twin.x()).cwiseAbs().maxCoeff() < 1e-12);
+  CHECK((filter.P() - twin.P()).cwiseAbs().maxCoeff() / P_scale < 1e-12);
 }
 
 TEST_CASE("LKF: the update is the Joseph form for any gain", "[57.4][linear_kf]") {
