@@ -1,6 +1,7 @@
 #include "estimation/contact_pipeline.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -15,9 +16,14 @@ ContactPipeline::ContactPipeline(const io::LogLayout& layout,
       detector_(std::move(detector)),
       rolling_(kinematics.geometry()),
       guard_(options.slip_params, options.slip) {
+  touchdown_t_.fill(-std::numeric_limits<double>::infinity());
   if (!(options.no_contact_bound > 0.0) || !std::isfinite(options.no_contact_bound)) {
     throw std::invalid_argument("ContactPipeline: no_contact_bound must be positive, got " +
                                 std::to_string(options.no_contact_bound));
+  }
+  if (!(options.settle_time >= 0.0) || !std::isfinite(options.settle_time)) {
+    throw std::invalid_argument("ContactPipeline: settle_time must be >= 0, got " +
+                                std::to_string(options.settle_time));
   }
   if (!detector_ && options.contact != "truth") {
     throw std::invalid_argument("ContactPipeline: no detector for the contact source '" +
@@ -37,6 +43,10 @@ ContactPipeline::ContactPipeline(const io::LogLayout& layout,
           layout, kinematics, noise, options,
           options.contact == "truth" ? nullptr : contact::makeDetector(options.contact, context)) {}
 
+double settleWeight(double since_touchdown, double settle_time) {
+  return since_touchdown < settle_time ? 0.0 : 1.0;
+}
+
 std::string ContactPipeline::source() const {
   return detector_ ? detector_->name() : "truth";
 }
@@ -48,6 +58,9 @@ void ContactPipeline::reset() {
   health_ = Health{};
   last_stance_t_.reset();
   silent_ = false;
+  down_.fill(false);
+  // Feet already down at a run's first row are settled.
+  touchdown_t_.fill(-std::numeric_limits<double>::infinity());
 }
 
 const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const EstimateSample& x,
@@ -60,7 +73,6 @@ const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const E
     base.v = x.v;
     base.p = x.p;
     contacts_ = detector_->update(frontend_.signals(row, dt, base));
-    input_ = frontend_.input(row, dt, contacts_, options_.soft);
   } else {
     contacts_.t = row.t;
     contacts_.num_feet = num_feet;
@@ -71,6 +83,20 @@ const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const E
       c.force = frontend_.layout().force ? row.force[foot] : std::nan("");
       c.problem = nullptr;
     }
+  }
+  // Touchdown settling: p_c times settleWeight of the time since the source put the foot down (a
+  // foot down at the first row, when last_stance_t_ is still empty, is no touchdown).
+  settled_ = contacts_;
+  for (int foot = 0; foot < contacts_.num_feet; ++foot) {
+    contact::FootContact& c = settled_.feet[foot];
+    const bool down = c.usable() && c.contact;
+    if (down && !down_[foot] && last_stance_t_) touchdown_t_[foot] = row.t;
+    down_[foot] = down;
+    c.probability *= settleWeight(row.t - touchdown_t_[foot], options_.settle_time);
+  }
+  if (detector_ || options_.settle_time > 0.0) {
+    input_ = frontend_.input(row, dt, settled_, options_.soft);
+  } else {
     input_ = frontend_.input(row, dt);  // the log's flags, as they have always been read
   }
   if (options_.rolling_foot && frontend_.layout().joints) {

@@ -425,23 +425,28 @@ TEST_CASE("cli: the main job runs on detected contacts and scores the detector",
   CHECK(r.status == 0);
   CHECK_THAT(r.output, Catch::Matchers::Contains("simulated physics-trot (MuJoCo physics), 2.5 s"));
   CHECK_THAT(r.output,
-             Catch::Matchers::Contains("contacts: detected by schmitt>schmitt-torque>momentum-"
-                                       "observer>kinematic>gait-clock; slip handling: inflate; "
-                                       "rolling foot: on"));
+             Catch::Matchers::Contains("contacts: detected by schmitt>momentum-observer>kinematic>"
+                                       "gait-clock; slip handling: inflate; rolling foot: on; "
+                                       "touchdown settling: 80 ms"));
   CHECK_THAT(r.output, Catch::Matchers::Contains("against the physics' true contact"));
   CHECK_THAT(r.output, Catch::Matchers::Contains("every estimator"));
   const std::string summary = slurp(dir.path / "out" / "summary.json");
   CHECK_THAT(summary, Catch::Matchers::Contains("\"slip\": \"inflate\""));
   CHECK_THAT(summary, Catch::Matchers::Contains("\"contact_scores\""));
   CHECK_THAT(summary, Catch::Matchers::Contains("\"f1\""));
+  CHECK_THAT(summary, Catch::Matchers::Contains("\"settle_time_s\": 0.08"));
+  CHECK_THAT(summary, Catch::Matchers::Contains("\"training_s\": null"));
 
-  // The old path, asked for: the log's (true) flags, no slip reaction, the sphere's centre.
+  // The old path, asked for: the log's (true) flags, no slip reaction, the sphere's centre, no
+  // touchdown settling.
   r = runLegkit(dir.path, {"run", "--duration", "2.5", "--no-plots", "--out", "truth", "--contact",
-                           "truth", "--slip", "none", "--no-rolling-foot"});
+                           "truth", "--slip", "none", "--no-rolling-foot", "--settle", "0"});
   CHECK(r.status == 0);
   CHECK_THAT(r.output, Catch::Matchers::Contains(
                            "contacts: the log's contact flags (--contact truth); slip handling: "
-                           "none; rolling foot: off"));
+                           "none; rolling foot: off; touchdown settling: off"));
+  CHECK_THAT(slurp(dir.path / "truth" / "summary.json"),
+             Catch::Matchers::Contains("\"settle_time_s\": 0.0"));
   // One estimator's scores line each when the detector reads the estimate (kinematic).
   r = runLegkit(dir.path, {"run", "--duration", "2.5", "--no-plots", "--out", "kin", "--contact",
                            "kinematic"});
@@ -456,6 +461,7 @@ TEST_CASE("cli: the analytic trot keeps its true flags", "[cli]") {
   CHECK(r.status == 0);
   CHECK_THAT(r.output, Catch::Matchers::Contains("simulated trot, 2 s"));
   CHECK_THAT(r.output, Catch::Matchers::Contains("contacts: the log's contact flags"));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("touchdown settling: off"));  // ideal contacts
   CHECK_THAT(r.output, !Catch::Matchers::Contains("contact detection"));
 }
 
@@ -469,10 +475,9 @@ TEST_CASE("cli: contact and slip options: bad values are usage errors naming the
   r = runLegkit(dir.path, {"run", "--slip", "sideways", "--out", "x"});
   CHECK(r.status == 1);
   CHECK_THAT(r.output, Catch::Matchers::Contains("--slip"));
-  // The logistic detector without a trained model.
-  r = runLegkit(dir.path, {"run", "--contact", "probabilistic", "--duration", "1", "--out", "x"});
+  r = runLegkit(dir.path, {"run", "--settle", "-0.01", "--out", "x"});
   CHECK(r.status == 1);
-  CHECK_THAT(r.output, Catch::Matchers::Contains("trained"));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("--settle"));
   CHECK_FALSE(fs::exists(dir.path / "x" / "summary.json"));
 
   // A log without contact columns: 'truth' is refused, the default is a detector.
@@ -490,4 +495,21 @@ TEST_CASE("cli: contact and slip options: bad values are usage errors naming the
   CHECK(r.status == 0);
   CHECK_THAT(r.output, Catch::Matchers::Contains("contacts: detected by schmitt>"));
   CHECK_THAT(r.output, !Catch::Matchers::Contains("no contact for longer than the bound"));
+}
+
+TEST_CASE("cli: run --contact probabilistic trains the logistic model first, then runs on it",
+          "[cli][physics]") {
+  const Folder dir("probabilistic");
+  const Result r = runLegkit(dir.path, {"run", "--contact", "probabilistic", "--duration", "2.5",
+                                        "--no-plots", "--out", "out"});
+  INFO(r.output);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("contacts: detected by probabilistic"));
+  CHECK_THAT(r.output, Catch::Matchers::Contains(
+                           "logistic contact model trained on simulated physics runs (seeds "
+                           "1001..1003) in "));
+  CHECK_THAT(r.output, Catch::Matchers::Contains("contact detection (probabilistic)"));
+  const std::string summary = slurp(dir.path / "out" / "summary.json");
+  CHECK_THAT(summary, Catch::Matchers::Contains("\"source\": \"probabilistic\""));
+  CHECK_THAT(summary, !Catch::Matchers::Contains("\"training_s\": null"));
 }

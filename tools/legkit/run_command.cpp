@@ -1,6 +1,7 @@
 #include "run_command.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -19,6 +20,7 @@
 #include "estimation/log_frontend.hpp"
 #include "estimation/slip/slip_guard.hpp"
 #include "eval/consistency.hpp"
+#include "eval/contact_training.hpp"
 #include "eval/metrics.hpp"
 #include "eval/monte_carlo.hpp"
 #include "eval/runner.hpp"
@@ -198,17 +200,6 @@ void removeStaleOutputs(const fs::path& dir) {
   for (const fs::path& p : stale) remove(p);
 }
 
-// The planned gait a robot running `scenario` would publish: its gait, the clock started at
-// stand_time (for the gait clock at the end of the fallback chain).
-contact::GaitSchedule plannedGait(const sim::PhysicsScenario& scenario) {
-  contact::GaitSchedule g;
-  g.period = scenario.gait.period;
-  g.duty = scenario.gait.duty;
-  for (int foot = 0; foot < io::kNumLegs; ++foot) g.offset[foot] = scenario.gait.offset[foot];
-  g.start = scenario.stand_time;
-  return g;
-}
-
 // Each run's detected contacts against the log's true contact (the rows the run covered).
 std::optional<eval::ContactScores> contactScores(const io::Log& log, const eval::RunResult& run) {
   const std::size_t n = run.detected_contact.size();
@@ -232,6 +223,8 @@ std::string describeContacts(const ContactPipeline& pipeline, bool joints) {
                                        : "detected by " + pipeline.source();
   s += "; slip handling: " + std::string(slip::slipReactionName(o.slip));
   if (joints) s += o.rolling_foot ? "; rolling foot: on" : "; rolling foot: off";
+  s += o.settle_time > 0.0 ? "; touchdown settling: " + number(1e3 * o.settle_time) + " ms"
+                           : "; touchdown settling: off";
   return s;
 }
 
@@ -362,6 +355,12 @@ RunCommand::RunCommand(CLI::App& app)
   c.add_flag("!--no-rolling-foot", rolling_foot_,
              "Stance feet at the foot sphere's centre, not at the ground point it touched (the "
              "analytic scenarios' feet do not roll: always off there)");
+  settle_option_ =
+      c.add_option("--settle", settle_,
+                   "Touchdown settling time [s]: a foot just put down is left out of the filters "
+                   "for this long (default " +
+                       number(kDefaultSettle) + "; 0 on the analytic scenarios; 0: off)")
+          ->check(CLI::NonNegativeNumber);
   c.add_flag("--json", json_, "Print the summary as JSON (one object per estimator)");
   c.add_flag("!--no-plots", plots_, "Do not draw the PNG plots");
 }
@@ -422,9 +421,20 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
                                                     : analytic     ? "none"
                                                                    : kDefaultSlip);
   pipeline_options.rolling_foot = rolling_foot_ && !analytic;
+  pipeline_options.settle_time = settle_option_->count() > 0 ? settle_
+                                 : analytic                  ? 0.0
+                                                             : kDefaultSettle;
   contact::DetectorContext context;
   if (log_.empty() && !analytic) {
-    context.gait = plannedGait(sim::physicsScenarioByName(scenario_));
+    context.gait = eval::plannedGait(sim::physicsScenarioByName(scenario_));
+  }
+  // The logistic contact probability has no stored coefficients: the kit trains it from the seed
+  // (simulated physics runs with seeds seed + 1000.., never this run's).
+  std::optional<double> training_s;
+  if (pipeline_options.contact == "probabilistic") {
+    const auto start = std::chrono::steady_clock::now();
+    context.logistic = eval::trainContactModel(seed_);
+    training_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   if (pipeline_options.contact == "truth" && !log.layout.contact) {
     throw UsageError("--contact truth: " + source + " has no contact columns; choose a detector");
@@ -474,6 +484,8 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
        {{"source", pipeline.source()},
         {"slip", slip::slipReactionName(pipeline_options.slip)},
         {"rolling_foot", pipeline_options.rolling_foot},
+        {"settle_time_s", pipeline_options.settle_time},
+        {"training_s", training_s ? nlohmann::json(*training_s) : nlohmann::json(nullptr)},
         {"no_contact_bound_s", pipeline_options.no_contact_bound}}},
       {"samples", log.rows.size()},
       {"estimate_rate_hz",
@@ -490,7 +502,12 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
     out << toJson(rows).dump(2) << '\n';
   } else {
     out << "legkit run: " << source << " (" << log.rows.size() << " samples)\n";
-    out << "contacts: " << contacts << "\n\n";
+    out << "contacts: " << contacts << "\n";
+    if (training_s) {
+      out << "logistic contact model trained on simulated physics runs (seeds " << seed_ + 1000
+          << ".." << seed_ + 1002 << ") in " << cell(*training_s, 1) << " s\n";
+    }
+    out << '\n';
     if (!fall.empty()) out << "STOPPED: " << fall << "; the table covers the log up to then\n\n";
     printRunTable(out, rows);
     if (log.layout.contact_truth) {

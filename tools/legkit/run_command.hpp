@@ -5,6 +5,8 @@
 //   legkit run                          physics trot (MuJoCo), 60 s, Go2-class sensors, seed 1,
 //                                       contacts detected, slip handling on
 //   legkit run --contact schmitt --slip none
+//   legkit run --contact probabilistic   trains the logistic model first (eval/contact_training)
+//   legkit run --settle 0                no touchdown settling
 //   legkit run --scenario trot          the analytic trot on its true contact flags
 //   legkit run --log my_robot.csv --json
 #pragma once
@@ -15,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "estimation/contact_pipeline.hpp"
 #include "eval/contact_scores.hpp"
 #include "eval/metrics.hpp"
 #include "eval/runner.hpp"
@@ -27,6 +30,9 @@ namespace legkit::tools {
 // columns (nothing a detector could read).
 constexpr const char* kDefaultContact = "fallback";
 constexpr const char* kDefaultSlip = "inflate";
+// Touchdown settling [s] on physics scenarios and recorded logs (PipelineOptions::settle_time);
+// off on the analytic scenarios, whose contacts are ideal.
+constexpr double kDefaultSettle = kRecommendedSettleTime;
 
 // One estimator's line of the table: its run and, when the log has ground truth and the run
 // finished, its accuracy; when the log has the true contacts, its detected contacts' scores.
@@ -63,6 +69,7 @@ class RunCommand {
  private:
   CLI::App* command_;
   CLI::Option* duration_option_;
+  CLI::Option* settle_option_;
   std::string scenario_ = "physics-trot";
   double duration_ = 60.0;
   unsigned seed_ = 1;
@@ -73,6 +80,7 @@ class RunCommand {
   std::string contact_;           // empty: kDefaultContact, or "truth" on an analytic scenario
   std::string slip_;              // empty: kDefaultSlip, or "none" on an analytic scenario
   bool rolling_foot_ = true;
+  double settle_ = kDefaultSettle;  // [s]; the analytic scenarios' default is 0
   bool json_ = false;
   bool plots_ = true;
 };
