@@ -32,17 +32,19 @@
 
 namespace legkit {
 
-// The kit's touchdown settling time [s] (PipelineOptions::settle_time), which `legkit run` uses on
-// physics scenarios and recorded logs. On the physics trot the foot sphere still skids about 5 mm
-// and sinks about 6.6 mm into the ground in its first 20 ms of contact, so a leg measurement
-// taken then pins the filter to a point that is still moving. Measured on the 60 s physics trot,
-// seed 1 (`legkit run --contact truth --settle 0|0.05|0.08|0.12`): ESKF position RMSE
-// 0.52 -> 0.24 -> 0.19 -> 0.22 m, ANEES 21.5 -> 6.4 -> 4.1 -> 4.6; the same on the fallback
-// chain. Holding p_c at 0 and ramping it from 0 to 1 over the same time give the p_c-weighted
-// filters the same figures; the filters that take a foot whole (leg odometry, linear KF) do
-// better with the hold (0.24-0.25 m against 0.26-0.37 m at 80 ms). The price: a foot that slides
-// at touchdown is hidden from the slip check while it settles (exercise 57.X's ice patch: the
-// first slide seen 2.8 s late), so the option is off unless asked for.
+// The kit's touchdown settling time [s] (PipelineOptions::settle_time), which `legkit run` uses
+// on physics scenarios and recorded logs. On the physics trot the foot sphere's centre still
+// moves about 7.5 mm along the ground and 7.4 mm down in its first 20 ms of contact (the log's
+// gt_vf_ foot velocities integrated over 20 ms after each rising gt_contact_, 470 touchdowns of
+// the 60 s trot, seed 1), so a leg measurement taken then pins the filter to a point that is
+// still moving. Measured on the 60 s physics trot, seed 1 (`legkit run --contact truth --settle
+// 0|0.05|0.08|0.12`): ESKF position RMSE 0.52 -> 0.24 -> 0.19 -> 0.22 m, ANEES 21.5 -> 6.4 ->
+// 4.1 -> 4.6; the same on the fallback chain. Holding p_c at 0 and ramping it from 0 to 1 over
+// the same time give the p_c-weighted filters the same figures; the filters that take a foot
+// whole (leg odometry, linear KF) do better with the hold (0.24-0.25 m against 0.26-0.37 m at 80
+// ms, measured with a ramp in the hold's place). The price: a foot that slides at touchdown is
+// hidden from the slip check while it settles (exercise 57.X's ice patch: the first slide seen
+// 2.8 s late), so the option is off unless asked for.
 constexpr double kRecommendedSettleTime = 0.08;
 
 struct PipelineOptions {
