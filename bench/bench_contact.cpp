@@ -95,7 +95,8 @@ BENCHMARK_CAPTURE(BM_Detector, schmitt, "schmitt");
 BENCHMARK_CAPTURE(BM_Detector, kinematic, "kinematic");
 BENCHMARK_CAPTURE(BM_Detector, grf_threshold_torque, "grf-threshold-torque");
 BENCHMARK_CAPTURE(BM_Detector, schmitt_torque, "schmitt-torque");
-// The recommended chain: schmitt > schmitt-torque > momentum-observer > kinematic > gait-clock.
+// The recommended chain: schmitt > momentum-observer > kinematic > gait-clock (lazy: healthy
+// sensors, Schmitt's cost).
 BENCHMARK_CAPTURE(BM_Detector, fallback, "fallback");
 
 // The force from joint torques alone.
