@@ -4,7 +4,8 @@
 // reaction) and then the filter's step. Rows of a 10 s physics trot (seed 1), simulated before
 // any timing. Contacts from the log's flags ("truth", the old path plus the rolling foot and
 // the slip check), the Schmitt trigger on the foot sensor, or the recommended fallback chain (lazy:
-// with every sensor healthy only its first detector runs). The target (issue 13): under 1 % of a 1 kHz loop, 10 us.
+// with every sensor healthy only its first detector runs). The target (issue 13): under 1 % of
+// a 1 kHz loop, 10 us.
 #include <benchmark/benchmark.h>
 
 #include <memory>
