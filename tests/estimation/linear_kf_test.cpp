@@ -487,7 +487,8 @@ TEST_CASE("LKF: touchdown ringing behind the slip reaction 'drop' captures it at
   // slip::SlipGuard with the reaction "drop" (the feet the slip check accuses are removed). With
   // the default leg-velocity sigma of 5 mm/s one ringing foot drags v by ~0.4 m/s while P_vv claims
   // ~(0.01 m/s)^2; the check then finds every foot against the filter, all are dropped, and it
-  // never comes back (the physics trot's 4.8 m). At 0.05 m/s, a settled physical foot's (a stance
+  // never comes back (the 20 s physics trot with the pipeline's touchdown settling off, legkit
+  // run --settle 0 --slip drop: 4.8 m). At 0.05 m/s, a settled physical foot's (a stance
   // foot 60 ms or more after touchdown on the 20 s physics trot: 0.051 0.044 0.035 m/s RMS per body
   // axis), it rides through.
   const io::Log log = trotLog(10.0, 4, false);
