@@ -59,6 +59,7 @@ void ContactPipeline::reset() {
   last_stance_t_.reset();
   silent_ = false;
   down_.fill(false);
+  settling_.fill(false);
   // Feet already down at a run's first row are settled.
   touchdown_t_.fill(-std::numeric_limits<double>::infinity());
 }
@@ -84,18 +85,18 @@ const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const E
       c.problem = nullptr;
     }
   }
-  // Touchdown settling: p_c times settleWeight of the time since the source put the foot down (a
-  // foot down at the first row, when last_stance_t_ is still empty, is no touchdown).
-  settled_ = contacts_;
+  // Touchdown settling: which feet the source has put down less than settle_time ago (a foot down
+  // at the first row, when last_stance_t_ is still empty, is no touchdown). They stay in input_
+  // for the slip check and are taken out only of what the filter receives, below.
   for (int foot = 0; foot < contacts_.num_feet; ++foot) {
-    contact::FootContact& c = settled_.feet[foot];
+    const contact::FootContact& c = contacts_.feet[foot];
     const bool down = c.usable() && c.contact;
     if (down && !down_[foot] && last_stance_t_) touchdown_t_[foot] = row.t;
     down_[foot] = down;
-    c.probability *= settleWeight(row.t - touchdown_t_[foot], options_.settle_time);
+    settling_[foot] = settleWeight(row.t - touchdown_t_[foot], options_.settle_time) == 0.0;
   }
-  if (detector_ || options_.settle_time > 0.0) {
-    input_ = frontend_.input(row, dt, settled_, options_.soft);
+  if (detector_) {
+    input_ = frontend_.input(row, dt, contacts_, options_.soft);
   } else {
     input_ = frontend_.input(row, dt);  // the log's flags, as they have always been read
   }
@@ -111,7 +112,22 @@ const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const E
     health_.record(Fault::kNoContact, row.t);
     silent_ = true;
   }
-  return guard_.apply(input_, x, P, reacted_, &slip_report_);
+  // The slip check sees every foot the source put down, settling or not (a slide at touchdown
+  // counts towards its confirmation and its all-feet test); the filter gets the settled ones.
+  const StepInput& guarded = guard_.apply(input_, x, P, reacted_, &slip_report_);
+  bool any_settling = false;
+  for (const ContactMeasurement& c : guarded.stance())
+    any_settling = any_settling || settling_[c.foot];
+  if (!any_settling) return guarded;
+  settled_ = guarded;
+  settled_.num_contacts = 0;
+  for (int k = 0; k < guarded.num_contacts; ++k) {
+    if (settling_[guarded.contacts[k].foot]) continue;
+    settled_.contacts[settled_.num_contacts] = guarded.contacts[k];
+    settled_.normal_force[settled_.num_contacts] = guarded.normal_force[k];
+    ++settled_.num_contacts;
+  }
+  return settled_;
 }
 
 }  // namespace legkit

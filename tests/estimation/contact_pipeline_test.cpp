@@ -390,3 +390,75 @@ TEST_CASE("settling: on a 10 s physics trot the ESKF's ANEES is at least halved,
     CHECK(rmse_with < rmse_without);
   }
 }
+
+TEST_CASE(
+    "settling: the slip check sees a foot from its touchdown; only the filter's input waits for "
+    "it",
+    "[57.6][57.7][physics]") {
+  const io::Log& log = trotLog();
+  contact::DetectorContext context;
+  context.gait = plannedGait(trotOptions(3.0).scenario);
+  for (const char* contact : {"truth", "fallback"}) {
+    INFO(contact);
+    PipelineOptions options;
+    options.contact = contact;
+    options.slip = slip::SlipReaction::kDrop;
+    options.settle_time = kRecommendedSettleTime;
+    ContactPipeline settled(log.layout, model::QuadrupedKinematics(), FrontendNoise{}, options,
+                            context);
+    options.settle_time = 0.0;
+    ContactPipeline unsettled(log.layout, model::QuadrupedKinematics(), FrontendNoise{}, options,
+                              context);
+    std::array<double, 4> touchdown{};
+    touchdown.fill(-1.0);  // down at the first row
+    std::array<bool, 4> down{};
+    int settling_rows = 0, slides_while_settling = 0;
+    bool same_report = true, same_feet = true;
+    for (std::size_t k = 0; k < log.rows.size(); ++k) {
+      const io::LogRow& row = log.rows[k];
+      const double dt = k == 0 ? 0.0 : row.t - log.rows[k - 1].t;
+      // Both judged against the same estimate: the truth of the previous row.
+      const io::LogRow& prev = log.rows[k == 0 ? 0 : k - 1];
+      EstimateSample x;
+      x.t = prev.t;
+      x.q = prev.gt_q;
+      x.v = prev.gt_v;
+      x.p = prev.gt_p;
+      const StepInput with = settled.step(row, dt, x, std::nullopt);
+      const StepInput& without = unsettled.step(row, dt, x, std::nullopt);
+      const slip::SlipReport& a = settled.slipReport();
+      const slip::SlipReport& b = unsettled.slipReport();
+      same_report = same_report && a.num_feet == b.num_feet && a.all_slipping == b.all_slipping;
+      for (int i = 0; i < std::min(a.num_feet, b.num_feet); ++i) {
+        same_report = same_report && a.feet[i].foot == b.feet[i].foot &&
+                      a.feet[i].d2 == b.feet[i].d2 && a.feet[i].slipping == b.feet[i].slipping;
+      }
+      // The filter's input: the unsettled one without the feet put down less than 80 ms ago.
+      int n = 0;
+      for (int foot = 0; foot < 4; ++foot) {
+        const contact::FootContact& c = settled.contacts().feet[foot];
+        const bool is_down = c.usable() && c.contact;
+        if (k > 0 && is_down && !down[foot]) touchdown[foot] = row.t;
+        down[foot] = is_down;
+        const bool settling = is_down && touchdown[foot] >= 0.0 && row.t - touchdown[foot] < 0.08;
+        settling_rows += settling;
+        slides_while_settling += settling && a.slipping(foot);
+      }
+      for (int i = 0; i < without.num_contacts; ++i) {
+        const ContactMeasurement& c = without.contacts[i];
+        const bool settling = touchdown[c.foot] >= 0.0 && row.t - touchdown[c.foot] < 0.08;
+        if (settling) continue;
+        same_feet = same_feet && n < with.num_contacts && with.contacts[n].foot == c.foot &&
+                    with.contacts[n].p_body == c.p_body && with.contacts[n].cov == c.cov;
+        ++n;
+      }
+      same_feet = same_feet && n == with.num_contacts;
+    }
+    INFO("rows with a settling foot " << settling_rows << ", of them found slipping "
+                                      << slides_while_settling);
+    CHECK(settling_rows > 10 * 79);
+    CHECK(slides_while_settling > 0);  // touchdown skids, seen although the filter waits
+    CHECK(same_report);
+    CHECK(same_feet);
+  }
+}
