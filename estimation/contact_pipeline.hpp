@@ -41,7 +41,7 @@ namespace legkit {
 // the 60 s trot, seed 1), so a leg measurement taken then pins the filter to a point that is
 // still moving. Measured on the 60 s physics trot, seed 1 (`legkit run --contact truth --settle
 // 0|0.05|0.08|0.12`): ESKF position RMSE 0.52 -> 0.24 -> 0.19 -> 0.22 m, ANEES 21.5 -> 6.4 ->
-// 4.1 -> 4.6; the same on the fallback chain. Holding p_c at 0 and ramping it from 0 to 1 over
+// 4.1 -> 4.5; the same on the fallback chain. Holding p_c at 0 and ramping it from 0 to 1 over
 // the same time give the p_c-weighted filters the same figures; the filters that take a foot
 // whole (leg odometry, linear KF) do better with the hold (0.24-0.25 m against 0.26-0.37 m at 80
 // ms, measured with a ramp in the hold's place). Settling acts on the filter's input only: the
