@@ -96,7 +96,7 @@ TEST_CASE("pipeline: on the Schmitt trigger (foot sensor) every filter finishes 
     options.slip = reaction;
     ContactPipeline pipeline(log.layout, model::QuadrupedKinematics(), FrontendNoise{}, options,
                              std::make_unique<contact::SchmittDetector>());
-    for (const std::string& name : {"leg-odometry", "linear-kf", "eskf", "invariant-ekf", "tsif"}) {
+    for (const char* name : {"leg-odometry", "linear-kf", "eskf", "invariant-ekf", "tsif"}) {
       INFO(name << ", slip reaction " << slip::slipReactionName(reaction));
       const std::unique_ptr<Estimator> e = makeEstimator(name);
       const eval::RunResult run = eval::runOnLog(*e, log, pipeline, x0);
