@@ -17,7 +17,7 @@ struct GaitSchedule {
   double period = 0.5;  // [s]
   double duty = 0.6;    // planned stance fraction of the period; >= 1: never lifts
   std::array<double, kMaxFeet> offset{0.0, 0.5, 0.5, 0.0};  // per foot, in periods
-  double start = 0.0;                                      // when the clock starts [s]
+  double start = 0.0;                                       // when the clock starts [s]
   int num_feet = 4;
 };
 
