@@ -13,6 +13,7 @@
 
 #include "io/log_reader.hpp"
 #include "io/log_writer.hpp"
+#include "scratch_folder.hpp"
 #include "sim/simulator.hpp"
 #include "spawn.hpp"
 
@@ -20,16 +21,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A fresh folder for one test, removed afterwards.
-struct Folder {
-  fs::path path;
-  explicit Folder(const std::string& name)
-      : path(fs::temp_directory_path() / ("legkit_cli_" + name + "_" + std::to_string(getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~Folder() { fs::remove_all(path); }
-};
+using Folder = legkit::test::ScratchFolder;
+using legkit::test::slurp;
 
 struct Result {
   int status = -1;
@@ -42,24 +35,14 @@ Result runLegkit(const fs::path& dir, std::vector<std::string> arguments) {
   arguments.insert(arguments.begin(), LEGKIT_EXE);
   Result r;
   r.status = legkit::test::spawnAndWait(arguments, dir.string(), output.string());
-  std::ifstream f(output);
-  std::stringstream text;
-  text << f.rdbuf();
-  r.output = text.str();
+  r.output = slurp(output);
   return r;
-}
-
-std::string slurp(const fs::path& path) {
-  std::ifstream f(path);
-  std::stringstream text;
-  text << f.rdbuf();
-  return text.str();
 }
 
 }  // namespace
 
 TEST_CASE("cli: --version, --help and a wrong command line", "[cli]") {
-  const Folder dir("usage");
+  const Folder dir("cli_usage");
   Result r = runLegkit(dir.path, {"--version"});
   CHECK(r.status == 0);
   CHECK_THAT(r.output, Catch::Matchers::Contains("legkit " LEGKIT_VERSION));
@@ -78,7 +61,7 @@ TEST_CASE("cli: --version, --help and a wrong command line", "[cli]") {
 }
 
 TEST_CASE("cli: a bad log is refused with its file and line, unchanged", "[cli]") {
-  const Folder dir("badlog");
+  const Folder dir("cli_badlog");
   legkit::sim::SimOptions options;
   options.duration = 0.2;
   std::ostringstream text;
@@ -105,7 +88,7 @@ TEST_CASE("cli: a bad log is refused with its file and line, unchanged", "[cli]"
 }
 
 TEST_CASE("cli: the time base of a recorded log is checked", "[cli]") {
-  const Folder dir("timebase");
+  const Folder dir("cli_timebase");
   legkit::sim::SimOptions options;
   options.duration = 2.0;
   options.faults.dropouts = {{1.0, 0.5}};  // no samples for 0.5 s: a gap of 500 periods
@@ -135,7 +118,7 @@ TEST_CASE("cli: the time base of a recorded log is checked", "[cli]") {
 }
 
 TEST_CASE("cli: a study makes its output folder before its runs", "[cli]") {
-  const Folder dir("study");
+  const Folder dir("cli_study");
   std::ofstream(dir.path / "a-file") << "x\n";
   const Result r = runLegkit(
       dir.path, {"study", "consistency", "--runs", "1", "--duration", "0.5", "--out", "a-file"});
@@ -145,7 +128,7 @@ TEST_CASE("cli: a study makes its output folder before its runs", "[cli]") {
 }
 
 TEST_CASE("cli: a finished run ends with summary.json, and stale outputs are gone", "[cli]") {
-  const Folder dir("summary");
+  const Folder dir("cli_summary");
   const fs::path out = dir.path / "out";
   fs::create_directories(out);
   std::ofstream(out / "estimate_old-filter.csv") << "stale\n";
@@ -164,7 +147,7 @@ TEST_CASE("cli: a finished run ends with summary.json, and stale outputs are gon
 }
 
 TEST_CASE("cli: a write that fails is an error, and nothing claims it was written", "[cli]") {
-  const Folder dir("full");
+  const Folder dir("cli_full");
   const fs::path out = dir.path / "out";
   fs::create_directories(out);
   // The estimates of one filter go to a full disk.
@@ -187,7 +170,7 @@ TEST_CASE("cli: a write that fails is an error, and nothing claims it was writte
 }
 
 TEST_CASE("cli: the plot script gets its arguments without a shell", "[cli]") {
-  const Folder dir("inject");
+  const Folder dir("cli_inject");
   const Result r =
       runLegkit(dir.path, {"run", "--duration", "2", "--out", "x'; touch INJECTED; echo '"});
   CHECK(r.status == 0);
@@ -196,7 +179,7 @@ TEST_CASE("cli: the plot script gets its arguments without a shell", "[cli]") {
 }
 
 TEST_CASE("cli: a recorded log without ground truth gets its plots too", "[cli]") {
-  const Folder dir("recorded");
+  const Folder dir("cli_recorded");
   legkit::sim::SimOptions options;
   options.duration = 2.0;
   options.ground_truth = false;
@@ -209,7 +192,7 @@ TEST_CASE("cli: a recorded log without ground truth gets its plots too", "[cli]"
 }
 
 TEST_CASE("cli: a run whose filters had to recover exits 3 and says which", "[cli]") {
-  const Folder dir("recover");
+  const Folder dir("cli_recover");
   legkit::sim::SimOptions options;
   options.duration = 1.0;
   options.foot_columns = legkit::io::FootCovariance::kDiagonal;
@@ -239,7 +222,7 @@ int dataRows(const fs::path& path) {
 }  // namespace
 
 TEST_CASE("cli: --estimate-rate thins the estimate files, never the metrics", "[cli]") {
-  const Folder dir("rate");
+  const Folder dir("cli_rate");
   // 2 s at 1 kHz: 2000 rows in the log, t = 0 .. 1.999.
   Result r = runLegkit(dir.path, {"run", "--duration", "2", "--no-plots", "--out", "thin"});
   REQUIRE(r.status == 0);
@@ -279,7 +262,7 @@ TEST_CASE("cli: --estimate-rate thins the estimate files, never the metrics", "[
 }
 
 TEST_CASE("cli: a study shows its progress, and only outside its results", "[cli]") {
-  const Folder dir("progress");
+  const Folder dir("cli_progress");
   const Result r = runLegkit(dir.path, {"study", "consistency", "--runs", "3", "--duration", "0.5",
                                         "--threads", "2", "--no-plots", "--out", "out"});
   REQUIRE(r.status == 0);
@@ -296,7 +279,7 @@ TEST_CASE("cli: a study shows its progress, and only outside its results", "[cli
 }
 
 TEST_CASE("cli: sim --foot-columns says the feet replace the joints, and they do", "[cli]") {
-  const Folder dir("feet");
+  const Folder dir("cli_feet");
   CHECK_THAT(runLegkit(dir.path, {"sim", "--help"}).output,
              Catch::Matchers::Contains("instead of joint columns"));
   REQUIRE(runLegkit(dir.path,
@@ -308,7 +291,7 @@ TEST_CASE("cli: sim --foot-columns says the feet replace the joints, and they do
 }
 
 TEST_CASE("cli: sim writes a physics log with the true contacts", "[cli][physics]") {
-  const Folder dir("physics");
+  const Folder dir("cli_physics");
   CHECK_THAT(runLegkit(dir.path, {"sim", "--help"}).output,
              Catch::Matchers::Contains("physics (MuJoCo"));
   Result r = runLegkit(
@@ -337,7 +320,7 @@ TEST_CASE("cli: sim writes a physics log with the true contacts", "[cli][physics
 
 TEST_CASE("cli: physics options out of range are usage errors naming the option",
           "[cli][physics]") {
-  const Folder dir("physics_usage");
+  const Folder dir("cli_physics_usage");
   const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
       {{"--scenario", "physics-trot", "--friction", "5"}, "--friction"},
       {{"--scenario", "physics-trot", "--friction", "0"}, "--friction"},
@@ -371,7 +354,7 @@ TEST_CASE("cli: physics options out of range are usage errors naming the option"
 
 TEST_CASE("cli: a robot that falls is a failed run with the time and the reason",
           "[cli][physics]") {
-  const Folder dir("fall");
+  const Folder dir("cli_fall");
   // 300 N for 0.2 s on a 15 kg robot: 4 m/s sideways.
   Result r = runLegkit(dir.path, {"sim", "--scenario", "physics-push", "--push", "300",
                                   "--duration", "6", "--out", "fall.csv"});
@@ -385,7 +368,7 @@ TEST_CASE("cli: a robot that falls is a failed run with the time and the reason"
 }
 
 TEST_CASE("cli: run takes a physics scenario: every estimator, the same table", "[cli][physics]") {
-  const Folder dir("physics_run");
+  const Folder dir("cli_physics_run");
   const Result r = runLegkit(dir.path, {"run", "--scenario", "physics-trot", "--duration", "2.5",
                                         "--no-plots", "--out", "out"});
   INFO(r.output);
@@ -401,7 +384,7 @@ TEST_CASE("cli: run takes a physics scenario: every estimator, the same table", 
 
 TEST_CASE("cli: run on a physics scenario whose robot falls: the table up to the fall, exit 3",
           "[cli][physics]") {
-  const Folder dir("physics_fall_run");
+  const Folder dir("cli_physics_fall_run");
   // The naive controller on the ice patch (57.X) falls within its 10 s.
   const Result r =
       runLegkit(dir.path, {"run", "--scenario", "physics-ice", "--no-plots", "--out", "out"});
@@ -419,7 +402,7 @@ TEST_CASE("cli: run on a physics scenario whose robot falls: the table up to the
 }
 
 TEST_CASE("cli: the main job runs on detected contacts and scores the detector", "[cli][physics]") {
-  const Folder dir("detected");
+  const Folder dir("cli_detected");
   Result r = runLegkit(dir.path, {"run", "--duration", "2.5", "--no-plots", "--out", "out"});
   INFO(r.output);
   CHECK(r.status == 0);
@@ -455,7 +438,7 @@ TEST_CASE("cli: the main job runs on detected contacts and scores the detector",
 }
 
 TEST_CASE("cli: the analytic trot keeps its true flags", "[cli]") {
-  const Folder dir("analytic");
+  const Folder dir("cli_analytic");
   const Result r = runLegkit(
       dir.path, {"run", "--scenario", "trot", "--duration", "2", "--no-plots", "--out", "out"});
   CHECK(r.status == 0);
@@ -467,7 +450,7 @@ TEST_CASE("cli: the analytic trot keeps its true flags", "[cli]") {
 
 TEST_CASE("cli: contact and slip options: bad values are usage errors naming them",
           "[cli][physics]") {
-  const Folder dir("contact_options");
+  const Folder dir("cli_contact_options");
   Result r = runLegkit(dir.path, {"run", "--contact", "psychic", "--out", "x"});
   CHECK(r.status == 1);
   CHECK_THAT(r.output, Catch::Matchers::Contains("--contact"));
@@ -499,7 +482,7 @@ TEST_CASE("cli: contact and slip options: bad values are usage errors naming the
 
 TEST_CASE("cli: run --contact probabilistic trains the logistic model first, then runs on it",
           "[cli][physics]") {
-  const Folder dir("probabilistic");
+  const Folder dir("cli_probabilistic");
   const Result r = runLegkit(dir.path, {"run", "--contact", "probabilistic", "--duration", "2.5",
                                         "--no-plots", "--out", "out"});
   INFO(r.output);

@@ -12,29 +12,15 @@
 #include <vector>
 
 #include "output.hpp"
+#include "scratch_folder.hpp"
 
 namespace fs = std::filesystem;
 using namespace legkit::tools;
 
 namespace {
 
-struct Folder {
-  fs::path path;
-  explicit Folder(const std::string& name)
-      : path(fs::temp_directory_path() /
-             ("legkit_output_" + name + "_" + std::to_string(getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~Folder() { fs::remove_all(path); }
-};
-
-std::string slurp(const fs::path& path) {
-  std::ifstream f(path);
-  std::stringstream text;
-  text << f.rdbuf();
-  return text.str();
-}
+using Folder = legkit::test::ScratchFolder;
+using legkit::test::slurp;
 
 const auto kMegabyte = [](std::ostream& f) { f << std::string(1 << 20, 'x'); };
 
@@ -54,7 +40,7 @@ TEST_CASE("output: a write to a full disk is an error that names the file", "[cl
 
 TEST_CASE("output: writeAtomically keeps the old file when the new one cannot be written",
           "[cli]") {
-  const Folder dir("atomic");
+  const Folder dir("output_atomic");
   const fs::path file = dir.path / "a.csv";
   writeAtomically(file, [](std::ostream& f) { f << "old\n"; });
   CHECK(slurp(file) == "old\n");
@@ -73,7 +59,7 @@ TEST_CASE("output: writeAtomically keeps the old file when the new one cannot be
 }
 
 TEST_CASE("output: programs run without a shell; their errors are kept", "[cli]") {
-  const Folder dir("spawn");
+  const Folder dir("output_spawn");
   const fs::path odd = dir.path / "x'; touch INJECTED; echo '";
   const ProgramResult touched = runProgram({"/usr/bin/touch", odd.string()});
   CHECK(touched.status == 0);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "estimation/contact/detectors.hpp"
+#include "scratch_folder.hpp"
 #include "sim/physics_scenario.hpp"
 #include "spawn.hpp"
 
@@ -21,23 +22,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Folder {
-  fs::path path;
-  explicit Folder(const std::string& name)
-      : path(fs::temp_directory_path() /
-             ("legkit_study_" + name + "_" + std::to_string(getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~Folder() { fs::remove_all(path); }
-};
-
-std::string slurp(const fs::path& path) {
-  std::ifstream f(path);
-  std::stringstream text;
-  text << f.rdbuf();
-  return text.str();
-}
+using Folder = legkit::test::ScratchFolder;
+using legkit::test::slurp;
 
 std::vector<std::string> split(const std::string& line) {
   std::vector<std::string> cells;
@@ -72,7 +58,7 @@ std::vector<std::map<std::string, std::string>> readCsv(const fs::path& path) {
 
 TEST_CASE("study contact: every scenario x detector scored, Schmitt finds the trot's contacts",
           "[cli][57.6]") {
-  Folder dir("contact");
+  Folder dir("study_contact");
   const fs::path output = dir.path / "output.txt";
   const int status = legkit::test::spawnAndWait(
       {LEGKIT_EXE, "study", "contact", "--duration", "2", "--no-plots", "--out", "out"},
@@ -114,7 +100,7 @@ TEST_CASE("study contact: every scenario x detector scored, Schmitt finds the tr
 
 TEST_CASE("study slip: every scenario x filter x reaction, the push on ice found and handled",
           "[cli][57.7]") {
-  Folder dir("slip");
+  Folder dir("study_slip");
   const fs::path output = dir.path / "output.txt";
   // 4 s: physics-ice-push runs to 4.2 s, 1 s after its push.
   const int status = legkit::test::spawnAndWait(
@@ -150,7 +136,7 @@ TEST_CASE("study slip: every scenario x filter x reaction, the push on ice found
 }
 
 TEST_CASE("study contact/slip: an unknown filter or contact source is a usage error", "[cli]") {
-  Folder dir("usage");
+  Folder dir("study_usage");
   const std::string output = (dir.path / "output.txt").string();
   CHECK(legkit::test::spawnAndWait({LEGKIT_EXE, "study", "contact", "--filter", "no-such-filter",
                                     "--no-plots", "--out", "out"},
