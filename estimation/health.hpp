@@ -49,6 +49,9 @@ enum class Fault : int {
   // silent: the filter is dead reckoning). Counted once per such stretch, by the pipeline
   // (estimation/contact_pipeline.hpp), never by a filter.
   kNoContact,
+  // A measurement whose innovation failed the filter's chi-square gate (GatingParams,
+  // estimation/engineering/gating.hpp): that update is skipped. Counted once per gated foot.
+  kGated,
   kCount
 };
 
@@ -58,7 +61,8 @@ constexpr const char* faultName(Fault f) {
       "gyro out of range",  "accelerometer out of range",
       "time gap",           "contact out of range",
       "update failed",      "state unhealthy (recovered)",
-      "no free foot state", "no contact for longer than the bound"};
+      "no free foot state", "no contact for longer than the bound",
+      "innovation gated"};
   return names[static_cast<int>(f)];
 }
 

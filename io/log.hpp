@@ -25,9 +25,11 @@ namespace legkit::io {
 constexpr int kNumLegs = 4;       // quadruped layout: FL, FR, RL, RR
 constexpr int kJointsPerLeg = 3;  // hip abduction, hip flexion, knee
 constexpr int kNumJoints = kNumLegs * kJointsPerLeg;
-constexpr int kMaxFeet = 6;  // robot-agnostic layout: a biped up to a hexapod
+constexpr int kMaxFeet = 6;     // robot-agnostic layout: a biped up to a hexapod
+constexpr int kMaxJoints = 24;  // generic joint columns: a hexapod's 18, a humanoid's legs
 
-using JointVector = Eigen::Matrix<double, kNumJoints, 1>;  // index = 3 * leg + joint
+using JointVector = Eigen::Matrix<double, kNumJoints, 1>;         // index = 3 * leg + joint
+using GenericJointVector = Eigen::Matrix<double, kMaxJoints, 1>;  // joint<k>_ columns, k < 24
 
 // How the body-frame foot columns give their uncertainty.
 enum class FootCovariance {
@@ -49,11 +51,26 @@ struct LogLayout {
   // True contact per foot (simulation only): gt_contact_, gt_fn_, gt_ft_, gt_vf_<foot>_x.._z,
   // gt_slip_. No estimator reads them; they are there to score contact detection and slip.
   bool contact_truth = false;
+  // Body-frame foot velocity columns foot<k>_vx, _vy, _vz (with foot_columns only): the foot's
+  // velocity relative to the body, as the robot's own kinematics computed it (J(q) dq) [m/s].
+  bool foot_velocity = false;
+  // gt_vx..vz present (with ground_truth). A motion-capture log often has the pose only; the
+  // evaluation then differentiates the pose (eval/metrics.hpp says how).
+  bool gt_velocity = true;
+  // A gt_valid column (with ground_truth): 0 on rows where the truth is missing (a motion-capture
+  // dropout); such rows are masked out of every metric, never scored.
+  bool gt_valid = false;
+  // Generic joint columns joint<k>_q [rad], joint<k>_dq [rad/s], k < num_joints (kMaxJoints at
+  // most): a robot described by its own URDF or MJCF (model/leg_kinematics.hpp), whose joints
+  // the settings name in column order. Exclusive with `joints` and with foot columns.
+  int num_joints = 0;
 
   bool operator==(const LogLayout& o) const {
     return joints == o.joints && torque == o.torque && force == o.force && contact == o.contact &&
            ground_truth == o.ground_truth && num_feet == o.num_feet &&
-           foot_columns == o.foot_columns && contact_truth == o.contact_truth;
+           foot_columns == o.foot_columns && contact_truth == o.contact_truth &&
+           foot_velocity == o.foot_velocity && gt_velocity == o.gt_velocity &&
+           gt_valid == o.gt_valid && num_joints == o.num_joints;
   }
   bool operator!=(const LogLayout& o) const { return !(*this == o); }
 };
@@ -62,6 +79,7 @@ struct LogLayout {
 struct FootKinematics {
   Eigen::Vector3d p_body = Eigen::Vector3d::Zero();  // foot position in the body frame [m]
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();     // its covariance [m^2] (diagonal if kDiagonal)
+  Eigen::Vector3d v_body = Eigen::Vector3d::Zero();  // its velocity relative to the body [m/s]
 };
 
 // The true state of one foot's contact, as the physics simulator knows it (contact_truth group).
@@ -82,13 +100,16 @@ struct LogRow {
   JointVector q = JointVector::Zero();             // joint angles      [rad]
   JointVector dq = JointVector::Zero();            // joint velocities  [rad/s]
   JointVector tau = JointVector::Zero();           // joint torques     [N m]
-  std::array<double, kMaxFeet> force{};            // normal ground-reaction force per foot [N]
-  std::array<bool, kMaxFeet> contact{};            // contact flag per foot
-  std::array<FootKinematics, kMaxFeet> feet{};     // body-frame foot positions (foot columns)
+  GenericJointVector joint_q = GenericJointVector::Zero();   // joint<k>_q   [rad]
+  GenericJointVector joint_dq = GenericJointVector::Zero();  // joint<k>_dq  [rad/s]
+  std::array<double, kMaxFeet> force{};         // normal ground-reaction force per foot [N]
+  std::array<bool, kMaxFeet> contact{};         // contact flag per foot
+  std::array<FootKinematics, kMaxFeet> feet{};  // body-frame foot positions (foot columns)
   // Ground truth (simulation, motion capture): base pose and world-frame velocity.
   Eigen::Vector3d gt_p = Eigen::Vector3d::Zero();            // position in world [m]
   Eigen::Quaterniond gt_q = Eigen::Quaterniond::Identity();  // R: body to world
   Eigen::Vector3d gt_v = Eigen::Vector3d::Zero();            // velocity in world [m/s]
+  bool gt_valid = true;                       // false where the truth is missing (gt_valid column)
   std::array<FootTruth, kMaxFeet> gt_feet{};  // true contact per foot (contact_truth group)
 };
 

@@ -1,0 +1,1 @@
+# Allan deviation of two hours of 1 kHz six-axis data. Owner: allan.

@@ -1,0 +1,1 @@
+# The estimator manager per update. Owner: manager.

@@ -1,0 +1,1 @@
+# Section 57.9: sensor-health and covariance monitors (legkit_monitors). Owner: monitors.

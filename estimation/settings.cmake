@@ -1,0 +1,1 @@
+# The settings file (estimation/settings.hpp, legkit_settings). Owner: config.

@@ -1,0 +1,29 @@
+// The legs of any robot, seen from its base: each foot's position in the base frame and its
+// Jacobian with respect to the robot's joints. Two implementations: the analytic Go2-class
+// quadruped of model/quadruped.hpp (the teaching model) and a robot described by its own URDF or
+// MJCF, through MuJoCo's kinematics (model/mujoco_kinematics.hpp).
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+
+namespace legkit::model {
+
+constexpr int kMaxLegJoints = 24;  // joints a LegKinematics may have (io::kMaxJoints)
+using LegJointVector = Eigen::Matrix<double, kMaxLegJoints, 1>;  // entries >= numJoints() unused
+using FootJacobian = Eigen::Matrix<double, 3, kMaxLegJoints>;    // columns >= numJoints() zero
+
+class LegKinematics {
+ public:
+  virtual ~LegKinematics() = default;
+  virtual int numFeet() const = 0;
+  virtual int numJoints() const = 0;
+  virtual std::string footName(int foot) const = 0;
+  // Foot `foot`'s point in the base frame at joint angles q [m], and its Jacobian d p / d q
+  // (so that the foot's velocity relative to the base is J dq). No allocation. Not thread-safe
+  // for the MuJoCo implementation (it owns one mjData).
+  virtual void foot(int foot, const LegJointVector& q, Eigen::Vector3d& p_B,
+                    FootJacobian& J) const = 0;
+};
+
+}  // namespace legkit::model

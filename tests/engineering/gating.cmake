@@ -1,0 +1,1 @@
+# Gating and stationary initialisation. Owner: gating.

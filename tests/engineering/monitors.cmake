@@ -1,0 +1,1 @@
+# Monitors and fault injection. Owner: monitors.

@@ -1,0 +1,1 @@
+# IMU extrinsic and foot velocities in the front end. Owner: frontend.

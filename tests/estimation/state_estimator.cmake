@@ -1,0 +1,1 @@
+# The estimator manager. Owner: manager.

@@ -1,0 +1,1 @@
+# Metrics on real data. Owner: iometrics.

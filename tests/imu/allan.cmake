@@ -1,0 +1,1 @@
+# Allan deviation. Owner: allan.

@@ -1,0 +1,1 @@
+# URDF/MJCF robots. Owner: robot.

@@ -1,0 +1,1 @@
+# legkit config, legkit run --config. Owner: config.

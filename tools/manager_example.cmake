@@ -1,0 +1,1 @@
+# The estimator manager's example program. Owner: manager.
