@@ -1,0 +1,311 @@
+#include "model/mujoco_kinematics.hpp"
+
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+namespace legkit::model {
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const std::string& what) {
+  throw std::runtime_error("robot model '" + path + "': " + what);
+}
+
+// The names of MuJoCo objects of one type, for an error message: "a, b, c" ("none" if empty).
+std::string knownNames(const mjModel& m, mjtObj type, int count) {
+  std::string list;
+  for (int i = 0; i < count; ++i) {
+    const char* name = mj_id2name(&m, type, i);
+    if (name == nullptr || name[0] == '\0') continue;
+    list += (list.empty() ? "" : ", ") + std::string(name);
+  }
+  return list.empty() ? "none" : list;
+}
+
+// True when body `b` lies strictly below body `ancestor` in the kinematic tree.
+bool below(const mjModel& m, int b, int ancestor) {
+  if (b == ancestor) return false;
+  while (b != 0 && b != ancestor) b = m.body_parentid[b];
+  return b == ancestor;
+}
+
+// The name of a MuJoCo object, "#<id>" when it has none.
+std::string objectName(const mjModel& m, mjtObj type, int id) {
+  const char* name = mj_id2name(&m, type, id);
+  return name != nullptr && name[0] != '\0' ? name : "#" + std::to_string(id);
+}
+
+// --- Just enough XML to find the elements MuJoCo's URDF compiler settings go into. -----------
+
+struct StartTag {
+  std::size_t begin = std::string::npos;  // position of '<'
+  std::size_t name_end = 0;               // just after the element name
+  std::size_t end = 0;                    // just after '>'
+  std::string name;
+  bool self_closing = false;
+};
+
+// The next start tag at or after `from`, skipping comments, processing instructions, CDATA,
+// declarations and end tags; begin == npos when there is none (or the markup is cut off).
+StartTag nextStartTag(const std::string& s, std::size_t from) {
+  StartTag tag;
+  for (std::size_t i = s.find('<', from); i != std::string::npos; i = s.find('<', i)) {
+    const auto skipPast = [&](const char* close) {
+      const std::size_t at = s.find(close, i);
+      return at == std::string::npos ? at : at + std::strlen(close);
+    };
+    if (s.compare(i, 4, "<!--") == 0) {
+      i = skipPast("-->");
+    } else if (s.compare(i, 9, "<![CDATA[") == 0) {
+      i = skipPast("]]>");
+    } else if (s.compare(i, 2, "<?") == 0) {
+      i = skipPast("?>");
+    } else if (s.compare(i, 2, "<!") == 0 || s.compare(i, 2, "</") == 0) {
+      i = skipPast(">");
+    } else {
+      std::size_t j = i + 1;
+      while (j < s.size() && std::strchr(" \t\r\n/>", s[j]) == nullptr) ++j;
+      char quote = 0;  // a '>' inside an attribute value does not end the tag
+      std::size_t k = j;
+      for (; k < s.size(); ++k) {
+        if (quote != 0) {
+          if (s[k] == quote) quote = 0;
+        } else if (s[k] == '"' || s[k] == '\'') {
+          quote = s[k];
+        } else if (s[k] == '>') {
+          break;
+        }
+      }
+      if (k >= s.size()) return tag;
+      tag.begin = i;
+      tag.name_end = j;
+      tag.end = k + 1;
+      tag.name = s.substr(i + 1, j - i - 1);
+      tag.self_closing = s[k - 1] == '/';
+      return tag;
+    }
+    if (i == std::string::npos) return tag;
+  }
+  return tag;
+}
+
+// The URDF text with the compiler settings of the header's comment added (no line added, so
+// MuJoCo's line numbers stay the file's); any other document unchanged. Returns whether it is
+// a URDF (root element <robot>).
+bool prepareUrdf(std::string& xml) {
+  const StartTag root = nextStartTag(xml, 0);
+  if (root.begin == std::string::npos || root.name != "robot" || root.self_closing) return false;
+  StartTag compiler, mujoco;
+  for (StartTag t = nextStartTag(xml, root.end); t.begin != std::string::npos;
+       t = nextStartTag(xml, t.end)) {
+    if (t.name == "compiler" && compiler.begin == std::string::npos) compiler = t;
+    if (t.name == "mujoco" && mujoco.begin == std::string::npos) mujoco = t;
+  }
+  static constexpr const char* kSettings[][2] = {
+      {"fusestatic", "false"}, {"boundmass", "1e-6"}, {"boundinertia", "1e-10"}};
+  if (compiler.begin != std::string::npos) {
+    const std::string attributes = xml.substr(compiler.name_end, compiler.end - compiler.name_end);
+    std::string added;
+    for (const auto& kv : kSettings) {
+      if (attributes.find(kv[0]) == std::string::npos) {
+        added += std::string(" ") + kv[0] + "=\"" + kv[1] + "\"";
+      }
+    }
+    xml.insert(compiler.name_end, added);
+    return true;
+  }
+  std::string element = "<compiler";
+  for (const auto& kv : kSettings) element += std::string(" ") + kv[0] + "=\"" + kv[1] + "\"";
+  element += "/>";
+  if (mujoco.begin == std::string::npos) {
+    xml.insert(root.end, "<mujoco>" + element + "</mujoco>");
+  } else if (mujoco.self_closing) {
+    xml.replace(mujoco.end - 2, 2, ">" + element + "</mujoco>");
+  } else {
+    xml.insert(mujoco.end, element);
+  }
+  return true;
+}
+
+struct VfsDeleter {
+  void operator()(mjVFS* vfs) const {
+    mj_deleteVFS(vfs);
+    delete vfs;
+  }
+};
+
+// MuJoCo's model of `path`. A URDF goes through a virtual file under the same path, so that
+// MuJoCo still finds its meshes relative to the file's directory.
+MjModelPtr load(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open the file (no such file, or not readable)");
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::string xml = text.str();
+  char error[1000] = "";
+  MjModelPtr m;
+  if (prepareUrdf(xml)) {
+    const std::unique_ptr<mjVFS, VfsDeleter> vfs(new mjVFS);
+    mj_defaultVFS(vfs.get());
+    if (mj_makeEmptyFileVFS(vfs.get(), path.c_str(), static_cast<int>(xml.size())) != 0) {
+      fail(path, "MuJoCo's virtual file system refused the file");
+    }
+    const int file = mj_findFileVFS(vfs.get(), path.c_str());
+    if (file < 0) fail(path, "MuJoCo's virtual file system lost the file");
+    std::memcpy(vfs->filedata[file], xml.data(), xml.size());
+    m.reset(mj_loadXML(path.c_str(), vfs.get(), error, sizeof(error)));
+  } else {
+    m.reset(mj_loadXML(path.c_str(), nullptr, error, sizeof(error)));
+  }
+  if (!m) {
+    std::string message = error;
+    while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) {
+      message.pop_back();
+    }
+    fail(path, "MuJoCo cannot load it: " + message);
+  }
+  return m;
+}
+
+}  // namespace
+
+MujocoLegKinematics MujocoLegKinematics::fromFile(const std::string& path, const std::string& base,
+                                                  const std::vector<std::string>& feet,
+                                                  const std::vector<std::string>& joints) {
+  if (feet.empty()) fail(path, "no foot named (name one site or body per foot)");
+  if (feet.size() > static_cast<std::size_t>(kMaxLegFeet)) {
+    fail(path, std::to_string(feet.size()) + " feet named, the kit handles at most " +
+                   std::to_string(kMaxLegFeet));
+  }
+  if (joints.size() > static_cast<std::size_t>(kMaxLegJoints)) {
+    fail(path, std::to_string(joints.size()) + " joints named, the kit handles at most " +
+                   std::to_string(kMaxLegJoints));
+  }
+  MujocoLegKinematics robot;
+  robot.path_ = path;
+  robot.model_ = load(path);
+  const mjModel& m = *robot.model_;
+
+  robot.base_ = mj_name2id(&m, mjOBJ_BODY, base.c_str());
+  if (robot.base_ < 0) {
+    fail(path, "no body named '" + base +
+                   "' for the base (its bodies: " + knownNames(m, mjOBJ_BODY, m.nbody) + ")");
+  }
+
+  for (const std::string& name : feet) {
+    for (const Frame& f : robot.feet_) {
+      if (f.name == name) fail(path, "foot '" + name + "' named twice");
+    }
+    Frame f;
+    f.name = name;
+    f.id = mj_name2id(&m, mjOBJ_SITE, name.c_str());
+    f.is_site = f.id >= 0;
+    if (f.is_site) {
+      f.body = m.site_bodyid[f.id];
+    } else {
+      f.id = f.body = mj_name2id(&m, mjOBJ_BODY, name.c_str());
+    }
+    if (f.id < 0) {
+      fail(path, "no site or body named '" + name +
+                     "' for a foot (its sites: " + knownNames(m, mjOBJ_SITE, m.nsite) +
+                     "; its bodies: " + knownNames(m, mjOBJ_BODY, m.nbody) + ")");
+    }
+    if (!below(m, f.body, robot.base_)) {
+      fail(path, "foot '" + name + "' (on body '" + objectName(m, mjOBJ_BODY, f.body) +
+                     "') is not below the base '" + base +
+                     "' in the kinematic tree: no leg joint moves it relative to the base");
+    }
+    robot.feet_.push_back(f);
+  }
+
+  const auto addJoint = [&](int j) {
+    robot.joints_.push_back(
+        Joint{objectName(m, mjOBJ_JOINT, j), m.jnt_qposadr[j], m.jnt_dofadr[j]});
+  };
+  const auto isLegJoint = [&](int j) {
+    return (m.jnt_type[j] == mjJNT_HINGE || m.jnt_type[j] == mjJNT_SLIDE) &&
+           below(m, m.jnt_bodyid[j], robot.base_);
+  };
+  if (joints.empty()) {
+    for (int j = 0; j < m.njnt; ++j) {
+      if (isLegJoint(j)) addJoint(j);
+    }
+    if (robot.joints_.size() > static_cast<std::size_t>(kMaxLegJoints)) {
+      fail(path, std::to_string(robot.joints_.size()) + " hinge and slide joints below the base '" +
+                     base + "', the kit handles at most " + std::to_string(kMaxLegJoints) +
+                     " (name the leg joints)");
+    }
+  }
+  for (const std::string& name : joints) {
+    const int j = mj_name2id(&m, mjOBJ_JOINT, name.c_str());
+    if (j < 0) {
+      fail(path, "no joint named '" + name +
+                     "' (its joints: " + knownNames(m, mjOBJ_JOINT, m.njnt) + ")");
+    }
+    for (const Joint& known : robot.joints_) {
+      if (known.name == name) fail(path, "joint '" + name + "' named twice");
+    }
+    if (!isLegJoint(j)) {
+      fail(path, "joint '" + name + "' is not a hinge or slide joint below the base '" + base +
+                     "' (a leg joint moves a foot relative to the base)");
+    }
+    addJoint(j);
+  }
+  if (robot.joints_.empty()) fail(path, "no hinge or slide joint below the base '" + base + "'");
+
+  robot.data_ = makeData(m);
+  for (int j = 0; j < m.njnt; ++j) {  // every free joint at the identity pose
+    if (m.jnt_type[j] != mjJNT_FREE) continue;
+    mjtNum* qpos = robot.data_->qpos + m.jnt_qposadr[j];
+    for (int i = 0; i < 7; ++i) qpos[i] = i == 3 ? 1.0 : 0.0;  // (x, y, z, w, x, y, z)
+  }
+  robot.jacp_.assign(3 * static_cast<std::size_t>(m.nv), 0.0);
+  return robot;
+}
+
+std::string MujocoLegKinematics::footName(int foot) const {
+  return feet_.at(static_cast<std::size_t>(foot)).name;
+}
+
+std::string MujocoLegKinematics::jointName(int joint) const {
+  return joints_.at(static_cast<std::size_t>(joint)).name;
+}
+
+void MujocoLegKinematics::update(const LegJointVector& q) const {
+  const int n = numJoints();
+  if (have_q_ && q.head(n) == q_last_.head(n)) return;
+  if (!q.head(n).allFinite()) {
+    throw std::invalid_argument("robot model '" + path_ + "': joint angles are not finite");
+  }
+  for (int k = 0; k < n; ++k) data_->qpos[joints_[k].qpos] = q[k];
+  mj_kinematics(model_.get(), data_.get());
+  mj_comPos(model_.get(), data_.get());  // cdof and subtree_com for mj_jac
+  q_last_ = q;
+  have_q_ = true;
+}
+
+void MujocoLegKinematics::foot(int foot, const LegJointVector& q, Eigen::Vector3d& p_B,
+                               FootJacobian& J) const {
+  if (foot < 0 || foot >= numFeet()) {
+    throw std::out_of_range("robot model '" + path_ + "': foot id " + std::to_string(foot) +
+                            " is out of range (it has " + std::to_string(numFeet()) + " feet)");
+  }
+  update(q);
+  const mjModel& m = *model_;
+  const mjData& d = *data_;
+  const Frame& f = feet_[foot];
+  const mjtNum* x_f = f.is_site ? d.site_xpos + 3 * f.id : d.xpos + 3 * f.id;
+  using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+  const Eigen::Map<const RowMajor3> R_WB(d.xmat + 9 * base_);  // base axes in the world
+  const Eigen::Map<const Eigen::Vector3d> x_B(d.xpos + 3 * base_);
+  p_B = R_WB.transpose() * (Eigen::Map<const Eigen::Vector3d>(x_f) - x_B);
+  mj_jac(&m, &d, jacp_.data(), nullptr, x_f, f.body);  // J_f, world frame, 3 x nv
+  const Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>> J_f(
+      jacp_.data(), 3, m.nv);
+  J.setZero();
+  for (int k = 0; k < numJoints(); ++k) J.col(k) = R_WB.transpose() * J_f.col(joints_[k].dof);
+}
+
+}  // namespace legkit::model
