@@ -35,6 +35,21 @@ void appendJoints(std::vector<Column>& out, const char* prefix, Field field) {
   for (int j = 0; j < kNumJoints; ++j) out.push_back({jointName(prefix, j), field, 0, j});
 }
 
+// joint<k>_q for every k, then joint<k>_dq (the quadruped's order: angles, then velocities).
+void appendGenericJoints(std::vector<Column>& out, int num_joints) {
+  for (int k = 0; k < num_joints; ++k) {
+    out.push_back({"joint" + std::to_string(k) + "_q", Field::kJointQ, 0, k});
+  }
+  for (int k = 0; k < num_joints; ++k) {
+    out.push_back({"joint" + std::to_string(k) + "_dq", Field::kJointDq, 0, k});
+  }
+}
+
+void appendFootVelocity(std::vector<Column>& out, int foot) {
+  const std::string f = footName(foot);
+  for (int i = 0; i < 3; ++i) out.push_back({f + "_v" + kAxes[i], Field::kFootV, foot, i});
+}
+
 void appendFootKinematics(std::vector<Column>& out, int foot, FootCovariance covariance) {
   const std::string f = footName(foot);
   for (int i = 0; i < 3; ++i) out.push_back({f + "_p" + kAxes[i], Field::kFootP, foot, i});
@@ -47,11 +62,12 @@ void appendFootKinematics(std::vector<Column>& out, int foot, FootCovariance cov
   }
 }
 
-void appendGroundTruth(std::vector<Column>& out) {
+void appendGroundTruth(std::vector<Column>& out, bool velocity, bool valid) {
   appendVector(out, "gt_p", Field::kGtP);
   constexpr std::array<const char*, 4> kQuat = {"w", "x", "y", "z"};
   for (int i = 0; i < 4; ++i) out.push_back({std::string("gt_q") + kQuat[i], Field::kGtQ, 0, i});
-  appendVector(out, "gt_v", Field::kGtV);
+  if (velocity) appendVector(out, "gt_v", Field::kGtV);
+  if (valid) out.push_back({"gt_valid", Field::kGtValid, 0, 0});
 }
 
 // The contact_truth group of `feet` feet, kind by kind (as force_ and contact_).
@@ -79,6 +95,7 @@ std::unordered_map<std::string, Column> buildNameTable() {
   appendJoints(all, "q", Field::kQ);
   appendJoints(all, "dq", Field::kDq);
   appendJoints(all, "tau", Field::kTau);
+  appendGenericJoints(all, kMaxJoints);
   for (int k = 0; k < kMaxFeet; ++k) {
     for (bool leg_names : {false, true}) {
       if (leg_names && k >= kNumLegs) continue;
@@ -87,8 +104,9 @@ std::unordered_map<std::string, Column> buildNameTable() {
     }
     appendFootKinematics(all, k, FootCovariance::kDiagonal);
     appendFootKinematics(all, k, FootCovariance::kFull);
+    appendFootVelocity(all, k);
   }
-  appendGroundTruth(all);
+  appendGroundTruth(all, true, true);
   appendContactTruth(all, kMaxFeet, false);
   appendContactTruth(all, kNumLegs, true);
   std::unordered_map<std::string, Column> table;
@@ -103,14 +121,35 @@ std::unordered_map<std::string, Column> buildNameTable() {
 
 std::vector<Column> columnsOf(const LogLayout& layout) {
   const bool feet = layout.foot_columns != FootCovariance::kNone;
-  if (!layout.joints && !feet) {
-    throw std::invalid_argument("log layout: needs joint columns or foot columns");
+  const bool generic = layout.num_joints > 0;
+  if (layout.num_joints < 0 || layout.num_joints > kMaxJoints) {
+    throw std::invalid_argument("log layout: num_joints = " + std::to_string(layout.num_joints) +
+                                " (0 .. " + std::to_string(kMaxJoints) + ")");
+  }
+  if (!layout.joints && !feet && !generic) {
+    throw std::invalid_argument(
+        "log layout: needs quadruped joint columns, foot columns or generic joint columns");
+  }
+  if (generic && (layout.joints || feet)) {
+    throw std::invalid_argument(
+        "log layout: generic joint columns (num_joints > 0) exclude the quadruped joint columns "
+        "and the foot columns");
+  }
+  if (layout.foot_velocity && !feet) {
+    throw std::invalid_argument("log layout: foot velocity columns need foot columns");
+  }
+  if (layout.gt_valid && !layout.ground_truth) {
+    throw std::invalid_argument("log layout: a gt_valid column needs the ground-truth columns");
+  }
+  if (!layout.gt_velocity && !layout.ground_truth) {
+    throw std::invalid_argument(
+        "log layout: gt_velocity = false describes a ground truth; without one leave it true");
   }
   if (layout.num_feet < 1 || layout.num_feet > kMaxFeet ||
       (layout.joints && layout.num_feet != kNumLegs)) {
     throw std::invalid_argument("log layout: num_feet = " + std::to_string(layout.num_feet) +
                                 " (4 with joint columns, 1.." + std::to_string(kMaxFeet) +
-                                " with foot columns only)");
+                                " with foot columns or generic joints)");
   }
   if (layout.torque && !layout.joints) {
     throw std::invalid_argument("log layout: torque columns need joint columns");
@@ -123,6 +162,7 @@ std::vector<Column> columnsOf(const LogLayout& layout) {
     appendJoints(out, "q", Field::kQ);
     appendJoints(out, "dq", Field::kDq);
   }
+  appendGenericJoints(out, layout.num_joints);
   if (layout.torque) appendJoints(out, "tau", Field::kTau);
   if (layout.force) {
     for (int k = 0; k < layout.num_feet; ++k) {
@@ -137,7 +177,10 @@ std::vector<Column> columnsOf(const LogLayout& layout) {
   if (feet) {
     for (int k = 0; k < layout.num_feet; ++k) appendFootKinematics(out, k, layout.foot_columns);
   }
-  if (layout.ground_truth) appendGroundTruth(out);
+  if (layout.foot_velocity) {
+    for (int k = 0; k < layout.num_feet; ++k) appendFootVelocity(out, k);
+  }
+  if (layout.ground_truth) appendGroundTruth(out, layout.gt_velocity, layout.gt_valid);
   if (layout.contact_truth) appendContactTruth(out, layout.num_feet, layout.joints);
   return out;
 }
@@ -173,12 +216,20 @@ double valueOf(const LogRow& row, const Column& c) {
       return row.feet[c.foot].cov(c.index, c.index);
     case Field::kFootCov:
       return row.feet[c.foot].cov(kCovRow[c.index], kCovCol[c.index]);
+    case Field::kFootV:
+      return row.feet[c.foot].v_body(c.index);
+    case Field::kJointQ:
+      return row.joint_q(c.index);
+    case Field::kJointDq:
+      return row.joint_dq(c.index);
     case Field::kGtP:
       return row.gt_p(c.index);
     case Field::kGtQ:
       return c.index == 0 ? row.gt_q.w() : row.gt_q.vec()(c.index - 1);
     case Field::kGtV:
       return row.gt_v(c.index);
+    case Field::kGtValid:
+      return row.gt_valid ? 1.0 : 0.0;
     case Field::kGtContact:
       return row.gt_feet[c.foot].contact ? 1.0 : 0.0;
     case Field::kGtFn:
@@ -231,6 +282,15 @@ void setValue(LogRow& row, const Column& c, double value) {
       cov(kCovCol[c.index], kCovRow[c.index]) = value;  // symmetric
       return;
     }
+    case Field::kFootV:
+      row.feet[c.foot].v_body(c.index) = value;
+      return;
+    case Field::kJointQ:
+      row.joint_q(c.index) = value;
+      return;
+    case Field::kJointDq:
+      row.joint_dq(c.index) = value;
+      return;
     case Field::kGtP:
       row.gt_p(c.index) = value;
       return;
@@ -243,6 +303,9 @@ void setValue(LogRow& row, const Column& c, double value) {
       return;
     case Field::kGtV:
       row.gt_v(c.index) = value;
+      return;
+    case Field::kGtValid:
+      row.gt_valid = value != 0.0;
       return;
     case Field::kGtContact:
       row.gt_feet[c.foot].contact = value != 0.0;

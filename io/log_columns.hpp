@@ -12,9 +12,16 @@
 //   foot<k>_px foot<k>_py foot<k>_pz   foot k in the body frame [m]               (optional)
 //   foot<k>_var_x .._var_y .._var_z    its variances [m^2], or
 //   foot<k>_cov_xx _xy _xz _yy _yz _zz its full covariance [m^2]
+//   foot<k>_vx foot<k>_vy foot<k>_vz   its velocity relative to the body, J dq [m/s] (optional)
+//   joint<k>_q, joint<k>_dq            generic joint k < 24: angle [rad], velocity [rad/s]; a
+//                                      robot described by its URDF/MJCF (instead of q_/dq_ and
+//                                      of foot columns)
 //   gt_px gt_py gt_pz                  true base position, world [m]              (optional)
 //   gt_qw gt_qx gt_qy gt_qz            true attitude, unit quaternion body to world
-//   gt_vx gt_vy gt_vz                  true base velocity, world [m/s]
+//   gt_vx gt_vy gt_vz                  true base velocity, world [m/s]  (optional within the
+//                                      group: a motion-capture truth may give the pose only)
+//   gt_valid                           1: the truth of this row is valid, 0: a dropout (any
+//                                      finite gt values; never scored)       (optional)
 //   gt_contact_<leg> | foot<k>_gt_contact   true contact, 0 or 1            (optional group,
 //   gt_fn_<leg>      | foot<k>_gt_fn        true normal force [N], >= 0      simulation only;
 //   gt_ft_<leg>      | foot<k>_gt_ft        true tangential force [N], >= 0  no estimator
@@ -22,7 +29,8 @@
 //   gt_slip_<leg>    | foot<k>_gt_slip      sliding speed of the contact [m/s], >= 0
 //
 // Per-foot columns of a log with joint columns use the leg names (force_FL); a log described
-// only by foot columns uses the foot number (foot0_force). The reader accepts either spelling.
+// by foot columns or generic joints uses the foot number (foot0_force). The reader accepts
+// either spelling.
 #pragma once
 
 #include <optional>
@@ -37,19 +45,23 @@ namespace legkit::io {
 // The field of LogRow a column fills.
 enum class Field {
   kTime,
-  kGyro,       // index: axis 0..2
-  kAcc,        // index: axis 0..2
-  kQ,          // index: joint 0..11 (3 * leg + joint)
-  kDq,         // index: joint 0..11
-  kTau,        // index: joint 0..11
-  kForce,      // foot
-  kContact,    // foot
-  kFootP,      // foot, index: axis 0..2
-  kFootVar,    // foot, index: axis 0..2
-  kFootCov,    // foot, index: 0..5 = xx, xy, xz, yy, yz, zz
-  kGtP,        // index: axis 0..2
-  kGtQ,        // index: 0..3 = w, x, y, z
-  kGtV,        // index: axis 0..2
+  kGyro,     // index: axis 0..2
+  kAcc,      // index: axis 0..2
+  kQ,        // index: joint 0..11 (3 * leg + joint)
+  kDq,       // index: joint 0..11
+  kTau,      // index: joint 0..11
+  kForce,    // foot
+  kContact,  // foot
+  kFootP,    // foot, index: axis 0..2
+  kFootVar,  // foot, index: axis 0..2
+  kFootCov,  // foot, index: 0..5 = xx, xy, xz, yy, yz, zz
+  kFootV,    // foot, index: axis 0..2
+  kJointQ,   // index: generic joint 0..kMaxJoints-1
+  kJointDq,  // index: generic joint 0..kMaxJoints-1
+  kGtP,      // index: axis 0..2
+  kGtQ,      // index: 0..3 = w, x, y, z
+  kGtV,      // index: axis 0..2
+  kGtValid,
   kGtContact,  // foot
   kGtFn,       // foot
   kGtFt,       // foot

@@ -193,6 +193,11 @@ class Reader {
         fail(header_line_, "", "header field " + std::to_string(i + 1) + " is empty");
       }
       const std::optional<Column> column = columnNamed(name);
+      if (!column && genericJointBeyondRange(name)) {
+        fail(header_line_, name,
+             "generic joint index out of range: at most " + std::to_string(kMaxJoints) +
+                 " joints, joint0_ .. joint" + std::to_string(kMaxJoints - 1) + "_");
+      }
       if (!column) {
         fail(header_line_, name,
              "unknown column (header field " + std::to_string(i + 1) +
@@ -214,6 +219,18 @@ class Reader {
     for (const Column& want : columnsOf(layout)) {
       if (!has(want.field, want.foot, want.index)) fail(header_line_, want.name, missingWhy(want));
     }
+  }
+
+  // joint<digits>_q or joint<digits>_dq whose number is kMaxJoints or more.
+  static bool genericJointBeyondRange(const std::string& name) {
+    const std::string_view prefix = "joint";
+    if (name.compare(0, prefix.size(), prefix) != 0) return false;
+    std::size_t end = prefix.size();
+    while (end < name.size() && name[end] >= '0' && name[end] <= '9') ++end;
+    const std::string_view suffix = std::string_view(name).substr(end);
+    if (end == prefix.size() || (suffix != "_q" && suffix != "_dq")) return false;
+    const std::size_t digits = end - prefix.size();
+    return digits > 9 || std::stoi(name.substr(prefix.size(), digits)) >= kMaxJoints;
   }
 
   bool has(Field field, int foot = -1, int index = -1) const {
@@ -244,10 +261,28 @@ class Reader {
       case Field::kFootVar:
       case Field::kFootCov:
         return "missing: each foot needs _px _py _pz and either _var_x.._z or _cov_xx.._zz";
+      case Field::kFootV:
+        return "missing: foot velocity columns need _vx _vy _vz for every foot";
+      case Field::kJointQ:
+      case Field::kJointDq: {
+        const Field other = want.field == Field::kJointQ ? Field::kJointDq : Field::kJointQ;
+        if (has(other, -1, want.index)) {
+          return "missing: each generic joint needs both joint<k>_q and joint<k>_dq";
+        }
+        return "missing: generic joints are numbered 0 .. " +
+               std::to_string(layout_.num_joints - 1) + " without a gap (joint" +
+               std::to_string(layout_.num_joints - 1) + "_ is there, joint" +
+               std::to_string(want.index) + "_ is not)";
+      }
       case Field::kGtP:
       case Field::kGtQ:
+        return "missing: the ground-truth group needs all of gt_px..gt_qz (gt_vx..gt_vz and "
+               "gt_valid are optional)";
       case Field::kGtV:
-        return "missing: the ground-truth group needs all of gt_px..gt_vz";
+        return "missing: the ground-truth group needs all of gt_vx, gt_vy, gt_vz, or none of "
+               "them for a truth with the pose only";
+      case Field::kGtValid:
+        return "missing";  // optional: never implied by a layout the reader deduces
       case Field::kGtContact:
       case Field::kGtFn:
       case Field::kGtFt:
@@ -266,6 +301,19 @@ class Reader {
     layout.force = has(Field::kForce);
     layout.contact = has(Field::kContact);
     layout.ground_truth = has(Field::kGtP) || has(Field::kGtQ) || has(Field::kGtV);
+    // Without a ground truth, gt_velocity keeps its default (it only means something with one).
+    layout.gt_velocity = !layout.ground_truth || has(Field::kGtV);
+    layout.gt_valid = has(Field::kGtValid);
+    if (layout.gt_valid && !layout.ground_truth) {
+      fail(header_line_, "gt_valid",
+           "a validity flag needs the ground-truth columns gt_px..gt_qz, and the log has none");
+    }
+    layout.foot_velocity = has(Field::kFootV);
+    for (const Column& c : columns_) {
+      if (c.field == Field::kJointQ || c.field == Field::kJointDq) {
+        layout.num_joints = std::max(layout.num_joints, c.index + 1);
+      }
+    }
     layout.contact_truth = has(Field::kGtContact) || has(Field::kGtFn) || has(Field::kGtFt) ||
                            has(Field::kGtVf) || has(Field::kGtSlip);
     const bool var = has(Field::kFootVar);
@@ -279,7 +327,7 @@ class Reader {
     int feet = 0;  // one past the highest foot id any per-foot column mentions
     for (const Column& c : columns_) {
       if (c.field == Field::kForce || c.field == Field::kContact || c.field == Field::kFootP ||
-          c.field == Field::kFootVar || c.field == Field::kFootCov ||
+          c.field == Field::kFootVar || c.field == Field::kFootCov || c.field == Field::kFootV ||
           c.field == Field::kGtContact || c.field == Field::kGtFn || c.field == Field::kGtFt ||
           c.field == Field::kGtVf || c.field == Field::kGtSlip) {
         feet = std::max(feet, c.foot + 1);
@@ -288,15 +336,29 @@ class Reader {
     if (layout.foot_columns == FootCovariance::kNone && has(Field::kFootP)) {
       fail(header_line_, "foot0_var_x", "missing: foot position columns need their variances");
     }
+    if (layout.foot_velocity && layout.foot_columns == FootCovariance::kNone) {
+      fail(header_line_, "foot0_px",
+           "missing: foot velocity columns (foot<k>_vx..) need the foot position columns "
+           "(foot<k>_px.. with variances)");
+    }
+    if (layout.num_joints > 0 && (layout.joints || layout.foot_columns != FootCovariance::kNone)) {
+      fail(header_line_, "",
+           std::string("the log describes its legs twice: generic joint columns (joint<k>_q, "
+                       "joint<k>_dq) and ") +
+               (layout.joints ? "quadruped joint columns (q_, dq_)"
+                              : "body-frame foot columns (foot<k>_p..)") +
+               "; give one of the two");
+    }
     if (layout.joints && layout.foot_columns != FootCovariance::kNone) {
       fail(header_line_, "",
            "the log describes its legs twice: joint columns (q_, dq_) and body-frame foot columns "
            "(foot<k>_p..); give one of the two");
     }
-    if (!layout.joints && layout.foot_columns == FootCovariance::kNone) {
+    if (!layout.joints && layout.foot_columns == FootCovariance::kNone && layout.num_joints == 0) {
       fail(header_line_, "q_FL_0",
-           "missing: a log needs joint columns (q_FL_0..q_RR_2, dq_FL_0..dq_RR_2) or body-frame "
-           "foot columns (foot0_px.. with variances)");
+           "missing: a log needs joint columns (q_FL_0..q_RR_2, dq_FL_0..dq_RR_2), body-frame "
+           "foot columns (foot0_px.. with variances) or generic joint columns (joint0_q, "
+           "joint0_dq, ..)");
     }
     if (layout.torque && !layout.joints) {
       fail(header_line_, "q_FL_0", "missing: torque columns need the joint columns");
@@ -333,7 +395,8 @@ class Reader {
       setValue(row, column, value);
     }
     checkCovariances(line, row, layout_);
-    if (layout_has_quaternion_) {
+    // A row whose truth is flagged missing (gt_valid = 0) may hold any finite gt values.
+    if (layout_has_quaternion_ && row.gt_valid) {
       const double norm = row.gt_q.norm();
       if (std::abs(norm - 1.0) > 1e-6) {
         fail(line, "gt_qw",
@@ -371,6 +434,11 @@ class Reader {
     if ((column.field == Field::kContact || column.field == Field::kGtContact) && value != 0.0 &&
         value != 1.0) {
       fail(line, column.name, "expected a contact flag 0 or 1, got " + shown(text));
+    }
+    if (column.field == Field::kGtValid && value != 0.0 && value != 1.0) {
+      fail(
+          line, column.name,
+          "expected a validity flag 0 (the truth is missing on this row) or 1, got " + shown(text));
     }
     const bool magnitude = column.field == Field::kGtFn || column.field == Field::kGtFt ||
                            column.field == Field::kGtSlip;

@@ -2,11 +2,15 @@
 //
 // The reader is strict: any bad row makes it throw a LogError naming the file, the line, the
 // column and what was expected; it never hands back part of a file as if it were the whole.
-// Checked: the header (unknown, duplicate or missing columns, incomplete groups, joint and foot
-// columns together), the number of fields per row, numbers (non-numeric, empty, NaN, overflow,
-// underflow), contact flags (0 or 1), variances (> 0: a zero variance claims a perfect
-// measurement), full foot covariances (positive definite), ground-truth quaternions (unit norm),
-// timestamps (strictly increasing) and, when asked, gaps between consecutive samples. Fields
+// Checked: the header (unknown, duplicate or missing columns, incomplete groups, more than one
+// leg description: quadruped joints, foot columns, generic joints; generic joints numbered
+// without gaps, each with _q and _dq, fewer than kMaxJoints; foot velocities only with foot
+// positions; gt_valid only with a ground truth), the number of fields per row, numbers
+// (non-numeric, empty, NaN, overflow, underflow), contact and validity flags (0 or 1), variances
+// (> 0: a zero variance claims a perfect measurement), full foot covariances (positive definite),
+// ground-truth quaternions (unit norm, except on rows flagged gt_valid = 0, whose truth may be
+// any finite numbers), timestamps (strictly increasing) and, when asked, gaps between
+// consecutive samples. Fields
 // quoted in a message are escaped and cut to 40 characters.
 //
 // Taken: LF, CR LF or lone CR line ends, a UTF-8 byte-order mark, spaces around fields. Whatever
