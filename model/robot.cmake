@@ -10,3 +10,13 @@ add_library(legkit_mujoco_kinematics STATIC
   mujoco_kinematics.cpp
   mujoco_kinematics.hpp)
 target_link_libraries(legkit_mujoco_kinematics PUBLIC legkit_mujoco)
+
+# The time for four feet through both implementations (bench/bench_leg_kinematics.cpp).
+if(LEGKIT_BUILD_BENCH)
+  find_package(benchmark REQUIRED)
+  add_executable(bench_leg_kinematics ${PROJECT_SOURCE_DIR}/bench/bench_leg_kinematics.cpp)
+  target_link_libraries(bench_leg_kinematics PRIVATE legkit_mujoco_kinematics
+                                                     benchmark::benchmark_main)
+  set_target_properties(bench_leg_kinematics PROPERTIES RUNTIME_OUTPUT_DIRECTORY
+                                                        ${PROJECT_BINARY_DIR}/bench)
+endif()
