@@ -137,6 +137,19 @@ TEST_CASE("An MJCF hexapod: foot sites, a free joint, against its closed-form FK
       (hexapod.coxa + hexapod.femur) * Eigen::Vector3d(std::cos(1.5707963267948966 + 0.3),
                                                        std::sin(1.5707963267948966 + 0.3), 0.0);
   CHECK((p - expected).norm() < 1e-12);
+
+  // A base that is turned and offset in the world: the L2 coxa. Its own hinge moves the base, not
+  // the foot relative to it, so the foot sits at (x, 0, z) of the header's FK in the coxa frame.
+  const MujocoLegKinematics coxa =
+      MujocoLegKinematics::fromFile(path, "L2_coxa", {"L2_foot"}, {"L2_femur", "L2_tibia"});
+  Eigen::VectorXd q_hexapod = Eigen::VectorXd::Zero(18);
+  q_hexapod.segment<3>(3) << 0.0, 0.4, -0.9;  // L2: coxa at zero, femur, tibia
+  q.setZero();
+  q.head<2>() << 0.4, -0.9;
+  coxa.foot(0, q, p, J);
+  const Eigen::Vector3d in_coxa = hexapod.foot(1, q_hexapod) - hexapod.hip(1);
+  const Eigen::Vector3d turned(std::cos(1.5707963267948966), std::sin(1.5707963267948966), 0.0);
+  CHECK((p - Eigen::Vector3d(in_coxa.dot(turned), 0.0, in_coxa.z())).norm() < 1e-12);
 }
 
 TEST_CASE("Robot model errors name the file and what is wrong", "[57.11][model][robot][mujoco]") {
