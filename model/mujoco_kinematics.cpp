@@ -1,5 +1,7 @@
 #include "model/mujoco_kinematics.hpp"
 
+#include "model/quadruped_leg_kinematics.hpp"
+
 #include <cstring>
 #include <fstream>
 #include <memory>
@@ -306,6 +308,20 @@ void MujocoLegKinematics::foot(int foot, const LegJointVector& q, Eigen::Vector3
       jacp_.data(), 3, m.nv);
   J.setZero();
   for (int k = 0; k < numJoints(); ++k) J.col(k) = R_WB.transpose() * J_f.col(joints_[k].dof);
+}
+
+std::unique_ptr<LegKinematics> makeLegKinematics(const std::string& model, const std::string& base,
+                                                 const std::vector<std::string>& feet,
+                                                 const std::vector<std::string>& joints) {
+  if (!model.empty()) {
+    return std::make_unique<MujocoLegKinematics>(
+        MujocoLegKinematics::fromFile(model, base, feet, joints));
+  }
+  if (!base.empty() || !feet.empty() || !joints.empty()) {
+    throw std::runtime_error(
+        "robot: a base, feet or joints are named but no model file (the built-in Go2 has its own)");
+  }
+  return std::make_unique<QuadrupedLegKinematics>();
 }
 
 }  // namespace legkit::model

@@ -20,6 +20,7 @@
 // file name and looks for it next to the URDF (or in the compiler's meshdir).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -81,5 +82,13 @@ class MujocoLegKinematics final : public LegKinematics {
   mutable LegJointVector q_last_;     // the q the kinematics in data_ belong to
   mutable bool have_q_ = false;
 };
+
+// The legs a settings file's `robot:` section describes: the analytic Go2 of model/quadruped.hpp
+// (QuadrupedLegKinematics) when `model` is empty, else MujocoLegKinematics::fromFile(model, base,
+// feet, joints). Throws std::runtime_error as fromFile does, and for base, feet or joints given
+// without a model.
+std::unique_ptr<LegKinematics> makeLegKinematics(const std::string& model, const std::string& base,
+                                                 const std::vector<std::string>& feet,
+                                                 const std::vector<std::string>& joints);
 
 }  // namespace legkit::model

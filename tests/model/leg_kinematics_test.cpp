@@ -2,9 +2,10 @@
 // QuadrupedKinematics, and the kit's own quadruped MJCF, written to a file and loaded through
 // MujocoLegKinematics, against the analytic Go2 to 1e-12; no allocation per call.
 #include <algorithm>
-#include <cmath>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <fstream>
+#include <memory>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -156,4 +157,22 @@ TEST_CASE("MujocoLegKinematics::foot allocates nothing", "[57.11][model][robot][
   LegJointVector bad = qs[0];
   bad[5] = std::nan("");
   CHECK_THROWS_AS(mujoco.foot(0, bad, p, J), std::invalid_argument);
+}
+
+TEST_CASE("makeLegKinematics: the Go2 without a model file, else the file's robot",
+          "[57.11][model][robot][mujoco]") {
+  const std::unique_ptr<LegKinematics> go2 = makeLegKinematics("", "", {}, {});
+  REQUIRE(dynamic_cast<const QuadrupedLegKinematics*>(go2.get()) != nullptr);
+  const legkit::test::ScratchFolder folder("robot_make");
+  const std::string path = writeGo2Mjcf(folder);
+  const std::unique_ptr<LegKinematics> file = makeLegKinematics(path, "base", {"FL_foot"}, {});
+  const auto* mujoco = dynamic_cast<const MujocoLegKinematics*>(file.get());
+  REQUIRE(mujoco != nullptr);
+  CHECK(mujoco->path() == path);
+  CHECK(mujoco->numFeet() == 1);
+  CHECK_THROWS_WITH(makeLegKinematics("", "base", {}, {}), Catch::Matchers::Contains("no model"));
+  CHECK_THROWS_WITH(makeLegKinematics("", "", {"FL_foot"}, {}),
+                    Catch::Matchers::Contains("no model"));
+  CHECK_THROWS_WITH(makeLegKinematics(path, "trunk", {"FL_foot"}, {}),
+                    Catch::Matchers::Contains("no body named 'trunk'"));
 }
