@@ -318,6 +318,9 @@ StudyContact::StudyContact(CLI::App& study) {
                   "default: the study's own");
     c->add_option("--out", out_dir_, "Output folder (default legkit-out/study-<name>)");
     c->add_flag("!--no-plots", plots_, "Do not draw the PNG figures");
+    c->add_option("--scenarios", scenarios_,
+                  "Only these of the study's scenarios (comma-separated; default: all of them)")
+        ->delimiter(',');
   }
   contact_
       ->add_option("--filter", filter_,
@@ -328,7 +331,28 @@ StudyContact::StudyContact(CLI::App& study) {
       ->add_option("--contact", contact_source_,
                    "Contact source of the slip runs: truth or a detector name")
       ->capture_default_str();
+  slip_
+      ->add_option("--filters", filters_,
+                   "Only these filters (comma-separated; default: every filter)")
+      ->delimiter(',');
 }
+
+namespace {
+
+// `chosen` when given, each one of `all`; else `all`. Throws UsageError naming the unknown one.
+std::vector<std::string> subset(const std::vector<std::string>& all,
+                                const std::vector<std::string>& chosen, const char* option) {
+  if (chosen.empty()) return all;
+  for (const std::string& c : chosen) {
+    if (std::find(all.begin(), all.end(), c) != all.end()) continue;
+    std::string known;
+    for (const std::string& a : all) known += (known.empty() ? "" : ", ") + a;
+    throw UsageError(std::string(option) + ": unknown '" + c + "' (known: " + known + ")");
+  }
+  return chosen;
+}
+
+}  // namespace
 
 int StudyContact::run(std::ostream& out) const {
   try {
@@ -355,7 +379,8 @@ int StudyContact::contact(std::ostream& out) const {
   // Trained on its own runs (seeds seed + 1000.., eval/contact_training.hpp), not these.
   const contact::LogisticModel logistic = eval::trainContactModel(seed_);
   const std::vector<std::string> detectors = contact::detectorNames();
-  const std::vector<std::string> scenarios = sim::physicsScenarioNames();
+  const std::vector<std::string> scenarios =
+      subset(sim::physicsScenarioNames(), scenarios_, "--scenarios");
 
   std::ostringstream csv = newCsv(), trace = newCsv();
   csv << "# seed " << seed_ << " duration " << duration << " filter " << filter_ << '\n'
@@ -485,12 +510,13 @@ int StudyContact::slip(std::ostream& out) const {
   const double duration = duration_ > 0 ? duration_ : 10.0;
   const fs::path dir = out_dir_.empty() ? fs::path("legkit-out/study-slip") : fs::path(out_dir_);
   makeOutputFolder(dir);
-  const std::vector<std::string> scenarios = {"physics-ice", "physics-ice-push",
-                                              "physics-ice-aware", "physics-trot"};
+  const std::vector<std::string> scenarios =
+      subset({"physics-ice", "physics-ice-push", "physics-ice-aware", "physics-trot"}, scenarios_,
+             "--scenarios");
   const std::vector<slip::SlipReaction> reactions = {
       slip::SlipReaction::kNone, slip::SlipReaction::kInflate, slip::SlipReaction::kDrop,
       slip::SlipReaction::kImuOnly};
-  const std::vector<std::string> filters = filterNames();
+  const std::vector<std::string> filters = subset(filterNames(), filters_, "--filters");
   const std::vector<std::string> detectors = contact::detectorNames();
   if (contact_source_ != "truth" &&
       std::find(detectors.begin(), detectors.end(), contact_source_) == detectors.end()) {

@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace legkit::tools {
 
@@ -37,6 +38,8 @@ class StudyContact {
   bool plots_ = true;
   std::string filter_ = "invariant-ekf";     // the estimator whose estimate the detectors see
   std::string contact_source_ = "fallback";  // slip study: where its filters' contacts come from
+  std::vector<std::string> scenarios_;       // empty: the study's own list
+  std::vector<std::string> filters_;         // slip study; empty: every filter
 };
 
 }  // namespace legkit::tools
