@@ -26,6 +26,12 @@ std::string knownNames(const mjModel& m, mjtObj type, int count) {
   return list.empty() ? "none" : list;
 }
 
+// The id of the object called `name`, -1 when there is none (or the name is empty: MuJoCo would
+// match an unnamed object).
+int findId(const mjModel& m, mjtObj type, const std::string& name) {
+  return name.empty() ? -1 : mj_name2id(&m, type, name.c_str());
+}
+
 // True when body `b` lies strictly below body `ancestor` in the kinematic tree.
 bool below(const mjModel& m, int b, int ancestor) {
   if (b == ancestor) return false;
@@ -190,7 +196,7 @@ MujocoLegKinematics MujocoLegKinematics::fromFile(const std::string& path, const
   robot.model_ = load(path);
   const mjModel& m = *robot.model_;
 
-  robot.base_ = mj_name2id(&m, mjOBJ_BODY, base.c_str());
+  robot.base_ = findId(m, mjOBJ_BODY, base);
   if (robot.base_ < 0) {
     fail(path, "no body named '" + base +
                    "' for the base (its bodies: " + knownNames(m, mjOBJ_BODY, m.nbody) + ")");
@@ -202,12 +208,12 @@ MujocoLegKinematics MujocoLegKinematics::fromFile(const std::string& path, const
     }
     Frame f;
     f.name = name;
-    f.id = mj_name2id(&m, mjOBJ_SITE, name.c_str());
+    f.id = findId(m, mjOBJ_SITE, name);
     f.is_site = f.id >= 0;
     if (f.is_site) {
       f.body = m.site_bodyid[f.id];
     } else {
-      f.id = f.body = mj_name2id(&m, mjOBJ_BODY, name.c_str());
+      f.id = f.body = findId(m, mjOBJ_BODY, name);
     }
     if (f.id < 0) {
       fail(path, "no site or body named '" + name +
@@ -241,7 +247,7 @@ MujocoLegKinematics MujocoLegKinematics::fromFile(const std::string& path, const
     }
   }
   for (const std::string& name : joints) {
-    const int j = mj_name2id(&m, mjOBJ_JOINT, name.c_str());
+    const int j = findId(m, mjOBJ_JOINT, name);
     if (j < 0) {
       fail(path, "no joint named '" + name +
                      "' (its joints: " + knownNames(m, mjOBJ_JOINT, m.njnt) + ")");

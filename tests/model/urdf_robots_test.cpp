@@ -179,6 +179,16 @@ TEST_CASE("Robot model errors name the file and what is wrong", "[57.11][model][
 
   CHECK_THROWS_WITH(load(urdf, "torso", biped.feet),
                     Contains(urdf) && Contains("no body named 'torso'") && Contains("pelvis"));
+  // An empty name never matches an unnamed object (MuJoCo's own lookup would).
+  const std::string unnamed = write(
+      folder, "unnamed.xml",
+      hexapod.mjcf("<body pos='0 0 0.05'><joint axis='0 1 0'/><inertial pos='0 0 0' mass='0.1' "
+                   "diaginertia='1e-4 1e-4 1e-4'/><site/></body>"));
+  CHECK_THROWS_WITH(load(unnamed, "", {"L1_foot"}), Contains("no body named '' for the base"));
+  CHECK_THROWS_WITH(load(unnamed, "thorax", {""}), Contains("no site or body named ''"));
+  CHECK_THROWS_WITH(load(unnamed, "thorax", {"L1_foot"}, {""}), Contains("no joint named ''"));
+  CHECK(load(unnamed, "thorax", {"L1_foot"}).jointName(18) ==
+        "#19");  // by its MuJoCo id (root is 0)
   CHECK_THROWS_WITH(load(urdf, "pelvis", {"l_sole", "l_toe"}),
                     Contains("no site or body named 'l_toe'") && Contains("l_sole"));
   CHECK_THROWS_WITH(load(mjcf, "thorax", {"L1_toe"}), Contains("no site or body named 'L1_toe'") &&
