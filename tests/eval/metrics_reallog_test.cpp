@@ -180,6 +180,8 @@ TEST_CASE("Jitter of the truth does not inflate the distance travelled", "[eval]
   for (EstimateSample& e : est) e.p = Eigen::Vector3d(0.02, 0.0, 0.3);  // 2 cm off
   const eval::Metrics m = eval::compare(still, est);
   CHECK(m.distance == 0.0);
+  // The differentiated jitter: sqrt(6) sigma / 0.04 s (the rows the 0.05 s window spans at 100 Hz).
+  CHECK(m.velocity_rmse == Approx(std::sqrt(6.0) * 1e-3 / 0.04).epsilon(0.1));
   CHECK(std::isnan(m.drift_percent));  // no distance to divide by: "n/c", not 0 %
   CHECK_FALSE(m.rpe[0].computed);      // no RPE pair made of jitter either
   // Summed sample by sample (d_min = 0), the same jitter walks metres.
