@@ -2,3 +2,9 @@
 add_library(legkit_monitors STATIC ${CMAKE_CURRENT_SOURCE_DIR}/engineering/monitors.cpp)
 target_include_directories(legkit_monitors PUBLIC ${PROJECT_SOURCE_DIR})
 target_link_libraries(legkit_monitors PUBLIC legkit_estimation)
+
+# Fault injection and monitored runs (eval/fault_injection.hpp): section 57.9's fault runs.
+add_library(legkit_fault_injection STATIC ${PROJECT_SOURCE_DIR}/eval/fault_injection.cpp)
+target_include_directories(legkit_fault_injection PUBLIC ${PROJECT_SOURCE_DIR})
+target_link_libraries(legkit_fault_injection PUBLIC legkit_monitors legkit_contact_pipeline
+                                                    legkit_contact)

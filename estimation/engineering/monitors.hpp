@@ -47,9 +47,9 @@ struct MonitorParams {
   double stuck_encoder_time = 0.1;     // [s] joint frozen this long while the body moves
   double stuck_encoder_gyro = 0.5;     // [rad/s] "the IMU moves": |gyro| beyond this ...
   double stuck_encoder_speed = 0.1;    // [m/s] ... or the estimated speed beyond this
-  double force_drift_window = 0.5;     // [s] time constant of the mean (sensor - model) force
+  double force_drift_window = 0.25;    // [s] time constant of the mean (sensor - model) force
   double force_drift_sigma = 3.0;      // persistent bias beyond this many force_sigma: drift
-  double force_sigma = 5.0;            // [N] sigma of (sensor - model) per sample, healthy robot
+  double force_sigma = 3.0;            // [N] sigma of (sensor - model) per sample, healthy robot
   double exteroception_timeout = 5.0;  // [s] without any exteroceptive update: alarm
   double position_sigma_max = 10.0;    // [m] covariance growth alarm
   double velocity_sigma_max = 5.0;     // [m/s]

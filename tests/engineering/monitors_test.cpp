@@ -136,8 +136,8 @@ TEST_CASE("monitors: force-sensor drift against the model inflates that foot's v
   int k = 0;
   for (; k < 1000; ++k) m.update(healthy(k));
   CHECK(m.forceNoiseScale(1) == 1.0);
-  // Foot 1 drifts +30 N over 2 s (15 N/s). The threshold is 3 x 5 N = 15 N of mean bias; the
-  // exponential mean (0.5 s) lags a ramp by its time constant: raised near 1.0 + 0.5 s.
+  // Foot 1 drifts +30 N over 2 s (15 N/s). The threshold is 3 x 3 N = 9 N of mean bias; the
+  // exponential mean (0.25 s) lags a ramp by its time constant: raised near 0.6 + 0.25 s.
   int raised_at = -1;
   for (int n = 0; n < 2000; ++n, ++k) {
     MonitorInput in = healthy(k);
@@ -145,8 +145,8 @@ TEST_CASE("monitors: force-sensor drift against the model inflates that foot's v
     if (m.update(in)[Alarm::kForceDrift] && raised_at < 0) raised_at = n;
   }
   REQUIRE(raised_at > 0);
-  CHECK(raised_at * kDt > 1.2);
-  CHECK(raised_at * kDt < 1.8);
+  CHECK(raised_at * kDt > 0.75);
+  CHECK(raised_at * kDt < 0.95);
   CHECK(m.forceNoiseScale(1) > 1.0 + 4.0);  // bias well over 2 sigma by now
   CHECK(m.forceNoiseScale(1) == Approx(1.0 + std::pow(m.forceBias(1) / p.force_sigma, 2)));
   CHECK(m.forceNoiseScale(0) == 1.0);
