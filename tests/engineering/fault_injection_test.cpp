@@ -66,7 +66,9 @@ void print(const char* label, const eval::MonitoredRun& r) {
     }
   }
   const std::string faults = eval::describe(r.health);
-  std::cout << "; health: " << (faults.empty() ? "-" : faults) << "\n";
+  std::cout << "; health: " << (faults.empty() ? "-" : faults)
+            << "; answers: " << r.contacts_removed << " foot updates removed, "
+            << r.forces_distrusted << " force readings distrusted\n";
 }
 
 // The clean run's figures, the baseline of every bound below.
