@@ -12,12 +12,13 @@
 
 namespace legkit::imu {
 
-std::vector<int> allanFactors(std::size_t samples, int per_decade) {
-  if (per_decade < 1) throw std::invalid_argument("allanFactors: per_decade must be >= 1");
+std::vector<int> allanFactors(std::size_t samples, double ratio) {
+  if (!(ratio > 1.0) || !std::isfinite(ratio))
+    throw std::invalid_argument("allanFactors: the ratio must be a number > 1");
   const auto m_max = static_cast<double>(samples / 4);
   std::vector<int> factors;
   for (int k = 0;; ++k) {
-    const double m = std::round(std::pow(10.0, static_cast<double>(k) / per_decade));
+    const double m = std::round(std::pow(ratio, k));
     if (m > m_max) break;
     if (factors.empty() || static_cast<int>(m) > factors.back())
       factors.push_back(static_cast<int>(m));
@@ -135,7 +136,7 @@ AllanAnalysis analyseImu(const ImuRecording& recording, const AllanOptions& opti
   if (analysis.samples < 8)
     throw std::invalid_argument("an Allan deviation needs at least 8 samples, " + recording.source +
                                 " has " + std::to_string(analysis.samples));
-  const std::vector<int> factors = allanFactors(analysis.samples, options.per_decade);
+  const std::vector<int> factors = allanFactors(analysis.samples, options.ratio);
   Eigen::VectorXd y(static_cast<Eigen::Index>(analysis.samples));
   for (int a = 0; a < ImuRecording::kAxes; ++a) {
     AxisNoise& axis = analysis.axes[a];

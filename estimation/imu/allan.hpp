@@ -34,9 +34,10 @@ struct AllanPoint {
   double lo = 0.0, hi = 0.0;  // 1-sigma interval adev (1 -+ 1 / sqrt(n)) (NIST SP 1065, 5.3)
 };
 
-// Averaging factors m = 1 .. samples / 4, about per_decade of them per decade of tau (each
-// distinct, increasing); the largest leaves at least four independent clusters.
-std::vector<int> allanFactors(std::size_t samples, int per_decade = 10);
+// Averaging factors m = round(ratio^k), k = 0, 1, ..., each distinct, up to samples / 4 (the
+// largest leaves at least four independent clusters): ratio 2 gives octaves 1, 2, 4, ...,
+// ratio 10^0.1 about ten per decade. Throws std::invalid_argument unless ratio > 1.
+std::vector<int> allanFactors(std::size_t samples, double ratio = 2.0);
 
 // Overlapping Allan deviation of the rate samples y (taken every tau0 seconds) at the given
 // averaging factors (each in 1 .. y.size() / 4). Throws std::invalid_argument otherwise.
@@ -64,7 +65,7 @@ SlopeLine fitSlopeLine(const std::vector<AllanPoint>& curve, double slope, doubl
                        double slope_tolerance);
 
 struct AllanOptions {
-  int per_decade = 10;            // averaging factors per decade of tau
+  double ratio = 2.0;  // of successive averaging factors: 2 octaves, 10^0.1 ten per decade
   double slope_tolerance = 0.15;  // a point belongs to a line when its local slope is this close
 };
 

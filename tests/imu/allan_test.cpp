@@ -92,7 +92,7 @@ TEST_CASE("overlapping Allan deviation of the NBS14 1000-point data set", "[alla
 }
 
 TEST_CASE("averaging factors are log-spaced up to a quarter of the record", "[allan]") {
-  const std::vector<int> m = legkit::imu::allanFactors(100000, 10);
+  const std::vector<int> m = legkit::imu::allanFactors(100000, std::pow(10.0, 0.1));
   REQUIRE(m.front() == 1);
   CHECK(m.back() <= 25000);
   CHECK(m.back() > 25000 / 2);
@@ -100,6 +100,10 @@ TEST_CASE("averaging factors are log-spaced up to a quarter of the record", "[al
   // Ten per decade once the integers stop crowding: 10..25000 spans 3.4 decades.
   const auto from10 = std::count_if(m.begin(), m.end(), [](int f) { return f >= 10; });
   CHECK(from10 == 34);
+  const std::vector<int> octaves = legkit::imu::allanFactors(100000);
+  CHECK(octaves ==
+        std::vector<int>{1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384});
+  CHECK_THROWS_AS(legkit::imu::allanFactors(100, 1.0), std::invalid_argument);
   CHECK_THROWS_AS(legkit::imu::allanDeviation(Eigen::VectorXd::Ones(100), 1.0, {26}),
                   std::invalid_argument);
 }

@@ -7,6 +7,7 @@
 #include "io/log_error.hpp"
 #include "output.hpp"
 
+#include "allan_command.hpp"
 #include "cassie_command.hpp"
 #include "lie_accuracy.hpp"
 #include "run_command.hpp"
@@ -43,6 +44,7 @@ int main(int argc, char** argv) {
   legkit::tools::SimCommand sim(app);
   legkit::tools::StudyCommand study(app);
   legkit::tools::CassieCommand cassie(app);
+  legkit::tools::AllanCommand allan(app);
 
   try {
     app.parse(argc, argv);
@@ -58,6 +60,7 @@ int main(int argc, char** argv) {
     if (sim.parsed()) return sim.run(std::cout);
     if (study.parsed()) return study.run(std::cout);
     if (cassie.parsed()) return cassie.run(std::cout);
+    if (allan.parsed()) return allan.run(std::cout);
   } catch (const UsageError& e) {  // e.g. an unknown leg or a malformed --dropout
     std::cerr << "legkit: " << e.what() << "\n";
     return kExitUsage;
