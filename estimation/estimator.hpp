@@ -3,7 +3,10 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
+#include <limits>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "estimation/estimate.hpp"
@@ -26,6 +29,29 @@ struct BaseCovariance {
   // rows and columns 3..8, is meaningful and NEES has 6 degrees of freedom instead of 9.
   bool has_attitude = true;
 };
+
+// Where a filter starts when more is known than a pose (section 57.9: stationary initialisation,
+// estimation/engineering/stationary_init.hpp): the base state, the IMU biases, and how well roll
+// and pitch are known.
+struct InitialState {
+  EstimateSample x;
+  Eigen::Vector3d b_g = Eigen::Vector3d::Zero();  // gyro bias [rad/s]
+  Eigen::Vector3d b_a = Eigen::Vector3d::Zero();  // accelerometer bias [m/s^2]
+  // [rad] standard deviation of roll and pitch (world x and y); NaN: the filter's own prior.
+  double sigma_tilt = std::numeric_limits<double>::quiet_NaN();
+};
+
+// Throws std::invalid_argument naming the field for non-finite biases or a sigma_tilt that is
+// neither NaN nor positive and finite.
+inline void checkInitialState(const InitialState& s, const std::string& who) {
+  const auto fail = [&](const char* what) {
+    throw std::invalid_argument(who + ": InitialState." + what);
+  };
+  if (!s.b_g.allFinite()) fail("b_g must be finite");
+  if (!s.b_a.allFinite()) fail("b_a must be finite");
+  if (!std::isnan(s.sigma_tilt) && !(s.sigma_tilt > 0.0 && std::isfinite(s.sigma_tilt)))
+    fail("sigma_tilt must be NaN (the filter's prior) or positive and finite");
+}
 
 // The contract every estimator keeps (tests/estimation/estimator_contract_test.cpp checks it for
 // all of them on the same inputs):
@@ -56,6 +82,13 @@ class Estimator {
   virtual std::string name() const = 0;
   // Restarts from the state x0 (its time is the time of the first sample that follows).
   virtual void reset(const EstimateSample& x0) = 0;  // implementations clear health_
+  // reset(s.x), then, in a filter that carries them, the biases from s and the roll and pitch
+  // prior from s.sigma_tilt (yaw keeps the filter's prior). Estimators without bias states keep
+  // this default, which uses the pose alone.
+  virtual void initialise(const InitialState& s) {
+    checkInitialState(s, name());
+    reset(s.x);
+  }
   // Consumes one IMU sample and the contacts measured with it.
   virtual void step(const StepInput& in) = 0;
   virtual EstimateSample estimate() const = 0;

@@ -90,7 +90,7 @@ void requireParam(bool ok, const char* what) {
 
 }  // namespace
 
-Eskf::Eskf(const EskfParams& params) : params_(params) {
+Eskf::Eskf(const EskfParams& params) : params_(params), gate_(params.gating, "Eskf") {
   nominal::checkImuNoise(params.imu, "Eskf", false);  // zero random walk: a constant bias
   requireParam(params.foot_stance_density >= 0.0 && std::isfinite(params.foot_stance_density),
                "foot_stance_density must be finite and non-negative");
@@ -125,10 +125,25 @@ void Eskf::reset(const EstimateSample& x0) {
   in_contact_.fill(false);
   probability_.fill(0.0);
   slots_.reset();
+  gate_.reset();
   startHealth(x0);
   t_ = x0.t;
   previous_ = model::ImuReading{};
   has_previous_ = false;
+}
+
+void Eskf::initialise(const InitialState& s) {
+  checkInitialState(s, name());
+  reset(s.x);
+  x_.b_g = s.b_g;
+  x_.b_a = s.b_a;
+  if (std::isnan(s.sigma_tilt)) return;
+  // World-frame prior diag(sigma_tilt^2, sigma_tilt^2, sigma_yaw^2), in the local error:
+  // dtheta = R_hat^T dtheta_w (covariance() inverts this).
+  const Vector3 sigma2(s.sigma_tilt * s.sigma_tilt, s.sigma_tilt * s.sigma_tilt,
+                       params_.sigma_attitude * params_.sigma_attitude);
+  const Matrix3& R = x_.R.matrix();
+  P_.block<3, 3>(kTheta, kTheta) = R.transpose() * sigma2.asDiagonal() * R;
 }
 
 void Eskf::predict(double dt) {
@@ -171,7 +186,7 @@ void Eskf::predict(double dt) {
   x_ = eskf::propagate(x_, previous_, dt, params_.gravity);
 }
 
-bool Eskf::updateFoot(int i, const ContactMeasurement& c, Vector27& dx) {
+Eskf::Update Eskf::updateFoot(int i, const ContactMeasurement& c, double t, Vector27& dx) {
   const int d = eskf::footIndex(i);
   eskf::Matrix39 H;  // over (dtheta, dp, dd_i)
   const Vector3 h = eskf::footInBody(x_, i, &H);
@@ -186,12 +201,19 @@ bool Eskf::updateFoot(int i, const ContactMeasurement& c, Vector27& dx) {
   for (int k = 0; k < 3; ++k) S.noalias() += Hblock(k) * PHt.middleRows<3>(cols[k]);
   // K = P H^T S^-1 through S = L L^T; a failed factorisation skips the update (the contract).
   const Eigen::LLT<Matrix3> llt(S);
-  if (llt.info() != Eigen::Success) return false;
-  const Matrix27x3 K = PHt.lazyProduct(llt.solve(Matrix3::Identity()));
+  if (llt.info() != Eigen::Success) return Update::kFailed;
 
   // Innovation against the error mean accumulated so far: z - h(x_hat) - H dx.
   Vector3 r = c.p_body - h;
   for (int k = 0; k < 3; ++k) r.noalias() -= Hblock(k) * dx.segment<3>(cols[k]);
+  if (gate_.enabled()) {
+    // d^2 = r^T S^-1 r = |L^-1 r|^2 against the chi-square gate (57.9)
+    const double d2 = llt.matrixL().solve(r).squaredNorm();
+    const engineering::FootGate::Decision decision = gate_.decide(i, d2, t);
+    if (decision == engineering::FootGate::Decision::kGate) return Update::kGated;
+    if (decision == engineering::FootGate::Decision::kReinitialise) return Update::kReinitialise;
+  }
+  const Matrix27x3 K = PHt.lazyProduct(llt.solve(Matrix3::Identity()));
   dx.noalias() += K * r;
 
   // Joseph form (I - K H) P (I - K H)^T + K Cov K^T with A = (I - K H) P = P - K (P H^T)^T:
@@ -203,7 +225,7 @@ bool Eskf::updateFoot(int i, const ContactMeasurement& c, Vector27& dx) {
     B.noalias() -= A.middleCols<3>(cols[k]).lazyProduct(Hblock(k).transpose());
   A.noalias() += B.lazyProduct(K.transpose());
   P_ = 0.5 * (A + A.transpose());
-  return true;
+  return Update::kDone;
 }
 
 void Eskf::inject(const Vector27& dx) {
@@ -247,10 +269,20 @@ void Eskf::step(const StepInput& raw) {
   bool updated = false;
   for (const ContactMeasurement& c : in.stance()) {
     if (!in_contact_[c.foot]) continue;
-    if (updateFoot(c.foot, c, dx)) {
-      updated = true;
-    } else {
-      health_.record(Fault::kUpdateFailed, in.t);
+    switch (updateFoot(c.foot, c, in.t, dx)) {
+      case Update::kDone:
+        updated = true;
+        break;
+      case Update::kFailed:
+        health_.record(Fault::kUpdateFailed, in.t);
+        break;
+      case Update::kGated:
+        health_.record(Fault::kGated, in.t);
+        break;
+      case Update::kReinitialise:  // gated too long: placed anew below, as at a touchdown
+        health_.record(Fault::kGated, in.t);
+        in_contact_[c.foot] = false;
+        break;
     }
   }
   if (updated) inject(dx);
@@ -262,6 +294,8 @@ void Eskf::step(const StepInput& raw) {
     probability[c.foot] = c.probability;
     if (!in_contact_[c.foot]) initialiseFoot(c.foot, c);
   }
+  for (int i = 0; i < kFeet; ++i)
+    if (!stance[i]) gate_.clear(i);  // lifted off: its gate clock stops
   in_contact_ = stance;
   probability_ = probability;
   if (imu_admitted) {

@@ -50,6 +50,12 @@
 // computed with H's nine non-zero columns only (each foot is a few rank-3 products, not 27 x 27
 // matrix products).
 //
+// Gating (section 57.9, GatingParams, off by default): before a stance foot's update, its
+// innovation r (against the error mean of the feet before it) is tested with d^2 = r^T S^-1 r,
+// S its sequential innovation covariance, against the chi-square quantile of 3 dof; a gated foot
+// is skipped for that sample (Fault::kGated). A foot gated for longer than max_gated_time is
+// re-initialised from its measurement as at a touchdown (engineering/gating.hpp: lock-out).
+//
 // Injection and reset. After the updates the error mean dx_hat is moved into the nominal state,
 // x_hat <- x_hat (+) dx_hat (R_hat <- R_hat Exp(dtheta_hat), the rest added), and the error is
 // reset to zero. The new error is dtheta+ = dtheta - dtheta_hat - [dtheta_hat/2]_x dtheta to
@@ -74,6 +80,7 @@
 #include <array>
 #include <optional>
 
+#include "estimation/engineering/gating.hpp"
 #include "estimation/estimator.hpp"
 #include "estimation/foot_slots.hpp"
 #include "estimation/invariant/nominal_state.hpp"
@@ -122,6 +129,7 @@ struct EskfParams {
   double sigma_accel_bias = 0.02;  // [m/s^2]
   Eigen::Vector3d gravity = model::gravity();
   InputLimits limits;  // sensor ranges and the largest dt integrated (estimation/health.hpp)
+  engineering::GatingParams gating;  // innovation gate of the foot updates (file comment)
 };
 
 class Eskf final : public Estimator {
@@ -133,6 +141,9 @@ class Eskf final : public Estimator {
   std::string name() const override { return "eskf"; }
   // Base from x0, biases zero, feet unknown and out of contact; P from the Params sigmas.
   void reset(const EstimateSample& x0) override;
+  // reset(s.x), then the biases from s and, when s.sigma_tilt is given, roll and pitch prior
+  // sigma_tilt about the world x and y axes (yaw keeps sigma_attitude).
+  void initialise(const InitialState& s) override;
   // Prediction over in.dt with the previous IMU sample, then the stance feet; bad input and
   // faults as estimation/estimator.hpp's contract says.
   void step(const StepInput& in) override;
@@ -146,12 +157,15 @@ class Eskf final : public Estimator {
 
  private:
   void predict(double dt);
-  // False (nothing changed) when the innovation covariance does not factorise.
-  bool updateFoot(int i, const ContactMeasurement& c, eskf::Vector27& dx);
+  enum class Update { kDone, kFailed, kGated, kReinitialise };
+  // kFailed (nothing changed) when the innovation covariance does not factorise; kGated or
+  // kReinitialise (nothing changed) when the gate rejects the innovation.
+  Update updateFoot(int i, const ContactMeasurement& c, double t, eskf::Vector27& dx);
   void inject(const eskf::Vector27& dx);
   void initialiseFoot(int i, const ContactMeasurement& c);
 
   EskfParams params_;
+  engineering::FootGate gate_;
   FootSlots<eskf::kFeet> slots_;  // foot ids of the log -> this filter's foot states
   eskf::State x_;
   eskf::Matrix27 P_ = eskf::Matrix27::Identity();  // covariance of the error dx

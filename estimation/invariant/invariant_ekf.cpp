@@ -111,7 +111,8 @@ InvariantEkfParams InvariantEkfParams::hartleyExample() {
   return p;
 }
 
-InvariantEkf::InvariantEkf(const InvariantEkfParams& params) : params_(params) {
+InvariantEkf::InvariantEkf(const InvariantEkfParams& params)
+    : params_(params), gate_(params.gating, "InvariantEkf") {
   const model::ImuNoise& n = params.imu;
   const auto nonNegative = [](double x) { return std::isfinite(x) && x >= 0.0; };
   const auto positive = [](double x) { return std::isfinite(x) && x > 0.0; };
@@ -145,20 +146,36 @@ void InvariantEkf::reset(const EstimateSample& x0) {
   previous_ = model::ImuReading{};
   has_previous_ = false;
   slots_.reset();
+  gate_.reset();
+  replace_.fill(false);
   startHealth(x0);
 
+  P_.setZero(15, 15);
+  setNavigationPrior(x0, Vector3::Constant(params_.sigma_attitude));
+  P_.block<3, 3>(9, 9).diagonal().setConstant(params_.sigma_gyro_bias * params_.sigma_gyro_bias);
+  P_.block<3, 3>(12, 12).diagonal().setConstant(params_.sigma_accel_bias *
+                                                params_.sigma_accel_bias);
+}
+
+void InvariantEkf::setNavigationPrior(const EstimateSample& x0, const Vector3& sigma_attitude) {
   // Prior diagonal in the kit's convention, mapped into xi = -T^-1 e.
   Eigen::Matrix<double, 9, 1> sigma;
-  sigma << Vector3::Constant(params_.sigma_attitude), Vector3::Constant(params_.sigma_velocity),
+  sigma << sigma_attitude, Vector3::Constant(params_.sigma_velocity),
       Vector3::Constant(params_.sigma_position);
   Eigen::Matrix<double, 9, 9> Tinv = Eigen::Matrix<double, 9, 9>::Identity();
   Tinv.block<3, 3>(3, 0) = lie::hat3(x0.v);
   Tinv.block<3, 3>(6, 0) = lie::hat3(x0.p);
-  P_.setZero(15, 15);
   P_.topLeftCorner<9, 9>() = Tinv * sigma.array().square().matrix().asDiagonal() * Tinv.transpose();
-  P_.block<3, 3>(9, 9).diagonal().setConstant(params_.sigma_gyro_bias * params_.sigma_gyro_bias);
-  P_.block<3, 3>(12, 12).diagonal().setConstant(params_.sigma_accel_bias *
-                                                params_.sigma_accel_bias);
+}
+
+void InvariantEkf::initialise(const InitialState& s) {
+  checkInitialState(s, name());
+  reset(s.x);
+  b_g_ = s.b_g;
+  b_a_ = s.b_a;
+  // The kit's attitude error is in the world frame already: roll, pitch, yaw about x, y, z.
+  if (!std::isnan(s.sigma_tilt))
+    setNavigationPrior(s.x, Vector3(s.sigma_tilt, s.sigma_tilt, params_.sigma_attitude));
 }
 
 void InvariantEkf::step(const StepInput& raw) {
@@ -277,7 +294,10 @@ void InvariantEkf::correct(const StepInput& in) {
   std::array<bool, inekf::kMaxFeet> stance{};
   for (const ContactMeasurement& c : in.stance()) stance[c.foot] = true;
   for (int foot = 0; foot < inekf::kMaxFeet; ++foot) {
-    if (column_of_foot_[foot] >= 0 && !stance[foot]) removeFoot(foot);
+    if (!stance[foot]) gate_.clear(foot);  // lifted off: its gate clock stops
+    // A foot gated too long is removed too, and added anew below from its measurement.
+    if (column_of_foot_[foot] >= 0 && (!stance[foot] || replace_[foot])) removeFoot(foot);
+    replace_[foot] = false;
   }
   const bool predicted = params_.touchdown_attitude == inekf::TouchdownAttitude::kPredicted;
   const Matrix3 R_touchdown = predicted ? R_predicted : X_.R();
@@ -317,8 +337,18 @@ void InvariantEkf::correctHeldFeet(const StepInput& in) {
       continue;
     }
     const Matrix3 C_inv = llt.matrixL().solve(Matrix3::Identity());
+    const Vector3 nu_white = C_inv * nu;  // d^2 = nu^T S^-1 nu = |C^-1 nu|^2
+    if (gate_.enabled()) {
+      const engineering::FootGate::Decision decision =
+          gate_.decide(c.foot, nu_white.squaredNorm(), in.t);
+      if (decision != engineering::FootGate::Decision::kUse) {
+        health_.record(Fault::kGated, in.t);
+        replace_[c.foot] = decision == engineering::FootGate::Decision::kReinitialise;
+        continue;
+      }
+    }
     const Eigen::Matrix<double, D, 3> W = U * C_inv.transpose();
-    delta += W * (C_inv * nu);
+    delta += W * nu_white;
     P -= W.lazyProduct(W.transpose());
     corrected = true;
   }

@@ -51,6 +51,12 @@
 // (3 x 3 innovations, each corrected for the earlier feet's delta), which equals the reference's
 // single stacked update, and the group is moved once, X_hat <- Exp(delta_xi) X_hat.
 //
+// Gating (section 57.9, GatingParams, off by default): each held foot's innovation nu is tested
+// with d^2 = nu^T S^-1 nu = |C^-1 nu|^2 (S = C C^T, its sequential innovation covariance) against
+// the chi-square quantile of 3 dof; a gated foot is skipped for that sample (Fault::kGated). A foot
+// gated for longer than max_gated_time is removed and added anew from its measurement, as at a
+// touchdown (engineering/gating.hpp: lock-out).
+//
 // Contacts, by foot id, after the correction (the reference's order): a held foot that is no
 // longer in stance is marginalised (its column of X and its rows and columns of P removed); a foot
 // that touches down gets a new column d = p_hat + R_hat y, whose right-invariant error is
@@ -76,6 +82,7 @@
 #include <array>
 #include <optional>
 
+#include "estimation/engineering/gating.hpp"
 #include "estimation/estimator.hpp"
 #include "estimation/foot_slots.hpp"
 #include "lie/sek3.hpp"
@@ -146,6 +153,7 @@ struct InvariantEkfParams {
   inekf::TouchdownAttitude touchdown_attitude = inekf::TouchdownAttitude::kCorrected;
   Eigen::Vector3d gravity = model::gravity();
   InputLimits limits;  // sensor ranges and the largest dt integrated (estimation/health.hpp)
+  engineering::GatingParams gating;  // innovation gate of the foot corrections (file comment)
 
   // The settings of the reference implementation's Cassie example (src/examples/kinematics.cpp):
   // its noise values read as continuous-time standard deviations (gyro 0.01, accel 0.1, bias
@@ -169,6 +177,9 @@ class InvariantEkf final : public Estimator {
   // an IMU sample has been admitted (the reference instead propagates a zero reading, free fall,
   // when its first step has dt > 0).
   void reset(const EstimateSample& x0) override;
+  // reset(s.x), then the biases from s and, when s.sigma_tilt is given, roll and pitch prior
+  // sigma_tilt about the world x and y axes (yaw keeps sigma_attitude).
+  void initialise(const InitialState& s) override;
   // Propagation over in.dt with the previous IMU sample, then the contacts of this sample:
   // corrections for the held feet still in stance, removal of the others, new columns for feet
   // that touched down. Bad input and faults as estimation/estimator.hpp's contract says.
@@ -195,12 +206,16 @@ class InvariantEkf final : public Estimator {
   void propagateCovariance(const inekf::Transition& Phi, double dt);
   template <int Feet>
   void correctHeldFeet(const StepInput& in);
+  // The (xi_R, xi_v, xi_p) block of P from the kit-convention prior sigmas at x0 (reset()).
+  void setNavigationPrior(const EstimateSample& x0, const Eigen::Vector3d& sigma_attitude);
   void removeFoot(int foot);
   // A new column for foot c.foot, placed with attitude R (TouchdownAttitude).
   void addFoot(const ContactMeasurement& c, const Eigen::Matrix3d& R);
   int navDim() const { return 3 + 3 * static_cast<int>(X_.numCols()); }
 
   InvariantEkfParams params_;
+  engineering::FootGate gate_;
+  std::array<bool, inekf::kMaxFeet> replace_{};  // gated too long: re-added after the correction
   FootSlots<inekf::kMaxFeet> slots_;  // foot ids of the log -> this filter's foot columns
   Group X_{2};
   Eigen::Vector3d b_g_ = Eigen::Vector3d::Zero();

@@ -228,7 +228,7 @@ void addKinematics(const State& x, int i, const ContactMeasurement& c, const Eig
 
 }  // namespace
 
-Tsif::Tsif(const TsifParams& params) : params_(params) {
+Tsif::Tsif(const TsifParams& params) : params_(params), gate_(params.gating, "Tsif") {
   // White noise weighs the IMU residual by its inverse: it must be positive. A zero random walk
   // is a constant bias (shareBias).
   nominal::checkImuNoise(params.imu, "Tsif", true);
@@ -271,7 +271,23 @@ void Tsif::reset(const EstimateSample& x0) {
   has_previous_ = false;
   pending_dt_ = 0.0;
   slots_.reset();
+  gate_.reset();
   startHealth(x0);
+}
+
+void Tsif::initialise(const InitialState& s) {
+  checkInitialState(s, name());
+  reset(s.x);
+  x_.b_g = s.b_g;
+  x_.b_a = s.b_a;
+  if (std::isnan(s.sigma_tilt)) return;
+  // World-frame prior diag(sigma_tilt^2, sigma_tilt^2, sigma_yaw^2) in the local error
+  // dtheta = R_hat^T dtheta_w, as information: R_hat^T diag(1 / sigma^2) R_hat.
+  const Eigen::Vector3d information(1.0 / (s.sigma_tilt * s.sigma_tilt),
+                                    1.0 / (s.sigma_tilt * s.sigma_tilt),
+                                    1.0 / (params_.sigma_attitude * params_.sigma_attitude));
+  const Eigen::Matrix3d& R = x_.R.matrix();
+  Lambda_.block<3, 3>(kTheta, kTheta) = R.transpose() * information.asDiagonal() * R;
 }
 
 void Tsif::step(const StepInput& raw) {
@@ -314,7 +330,6 @@ void Tsif::step(const StepInput& raw) {
     forgetFoot(Lambda0, i);
     x0.d[i] = x1.d[i] = x1.p + x1.R * contact[i]->p_body;
   }
-  const State prior = x0;
 
   // Weights of this step.
   const Matrix15 W_imu = imuWeight(params_.imu, dt);
@@ -332,9 +347,48 @@ void Tsif::step(const StepInput& raw) {
     w_c[i] = 1.0 / (foot_variance_density[i] * dt);
     touched_down[i] = contact[i] && !in_contact_[i];
   }
+  std::array<bool, kFeet> kinematics{};  // stance feet whose kinematics residual is used
+  for (int i = 0; i < kFeet; ++i) kinematics[i] = contact[i] != nullptr;
+  if (gate_.enabled()) {
+    // The gate (file comment): residuals at the prediction against J P_pred J^T + Cov.
+    Matrix27 Lambda_pred =
+        betweenMarginal(Lambda0, imuResidual(x0, x1, previous_, dt, params_.gravity), params_.imu,
+                        dt, foot_variance_density, touched_down);
+    for (int i = 0; i < kFeet; ++i)  // a forgotten foot has no information: decoupled here
+      if (touched_down[i]) Lambda_pred.block<3, 3>(footIndex(i), footIndex(i)).setIdentity();
+    const Eigen::LLT<Matrix27> llt_pred(Lambda_pred);
+    for (int i = 0; i < kFeet; ++i) {
+      if (!contact[i] || touched_down[i] || llt_pred.info() != Eigen::Success) continue;
+      Matrix39 J;
+      const Eigen::Vector3d r = kinematicsResidual(x1, i, contact[i]->p_body, &J);
+      Eigen::Matrix<double, kDim, 9> E =
+          Eigen::Matrix<double, kDim, 9>::Zero();  // (dtheta, dp, dd_i)
+      const std::array<int, 3> blocks = {kTheta, kP, footIndex(i)};
+      for (int a = 0; a < 3; ++a) E.block<3, 3>(blocks[a], 3 * a).setIdentity();
+      const Eigen::Matrix<double, 9, 9> P_sub = E.transpose() * llt_pred.solve(E);
+      const Eigen::Matrix3d S = J * P_sub * J.transpose() + contact[i]->cov +
+                                kMinFootVariance * Eigen::Matrix3d::Identity();
+      const Eigen::LLT<Eigen::Matrix3d> llt(S);
+      if (llt.info() != Eigen::Success) continue;
+      const double d2 = llt.matrixL().solve(r).squaredNorm();  // r^T S^-1 r
+      const engineering::FootGate::Decision decision = gate_.decide(i, d2, in.t);
+      if (decision == engineering::FootGate::Decision::kUse) continue;
+      health_.record(Fault::kGated, in.t);
+      if (decision == engineering::FootGate::Decision::kGate) {
+        kinematics[i] = false;
+      } else {  // gated too long: placed anew, as at a touchdown
+        forgetFoot(Lambda0, i);
+        x0.d[i] = x1.d[i] = x1.p + x1.R * contact[i]->p_body;
+        touched_down[i] = true;
+      }
+    }
+  }
+  for (int i = 0; i < kFeet; ++i)
+    if (!contact[i]) gate_.clear(i);  // lifted off: its gate clock stops
+  const State prior = x0;
   std::array<Eigen::Matrix3d, kFeet> W_kin{};  // Cov_i^-1 of the kinematics of stance feet
   for (int i = 0; i < kFeet; ++i)
-    if (contact[i]) W_kin[i] = kinematicsWeight(*contact[i]);
+    if (kinematics[i]) W_kin[i] = kinematicsWeight(*contact[i]);
 
   // The linearisation of the last iteration, from which the new information is formed.
   Matrix27 H_prior;                                   // the prior's information in x0's tangent
@@ -391,7 +445,7 @@ void Tsif::step(const StepInput& raw) {
     // Kinematics of the stance feet at k+1, over (dtheta, dp, dd_i) of x1.
     H_kin.setZero();
     for (int i = 0; i < kFeet; ++i)
-      if (contact[i]) addKinematics(x1, i, *contact[i], W_kin[i], H_kin, b2);
+      if (kinematics[i]) addKinematics(x1, i, *contact[i], W_kin[i], H_kin, b2);
     H22 += H_kin;
 
     if (params_.imu.gyro_bias_random_walk == 0.0) shareBias(kBg, H11, H12, H22, b1, b2);

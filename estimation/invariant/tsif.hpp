@@ -71,6 +71,18 @@
 // touchdowns a second it added up, and over 300 s made the filter over-confident in position
 // (ANEES/dof 3.5 on 2 runs; chapter 57.10).
 //
+// Gating (section 57.9, GatingParams, off by default). The TSIF has no innovation in the EKF's
+// sense: the kinematics residual is one term of a joint solve. Its stand-in is the residual at the
+// IMU prediction of x_{k+1}, before any kinematics enter, r_i = R^T (d_i - p) - p_body, tested
+// against the filter's own information: the predicted information of x_{k+1} (the prior and the
+// residuals between the two states, betweenMarginal at the prediction) inverted, P_pred, gives
+// S_i = J_i P_pred J_i^T + Cov_i, and d^2 = r_i^T S_i^-1 r_i against the chi-square quantile of
+// 3 dof. With one iteration this is the ESKF's innovation test (both filters agree to ~1e-6). A
+// gated foot keeps its stance residual but its kinematics residual is left out of the step
+// (Fault::kGated); one gated for longer than max_gated_time is placed anew from its measurement as
+// at a touchdown (engineering/gating.hpp: lock-out). The test costs one more 27 x 27 marginal and
+// factorisation per step, only with the gate on.
+//
 // At the first sample (dt = 0, no previous IMU reading) there is no pair to solve: the filter
 // stores the reading and places the feet that touch down, forgotten, at d = p + R p_body, with
 // their kinematics as their only information (likewise for any later step shorter than kMinDt).
@@ -89,6 +101,7 @@
 #include <array>
 #include <optional>
 
+#include "estimation/engineering/gating.hpp"
 #include "estimation/estimator.hpp"
 #include "estimation/foot_slots.hpp"
 #include "estimation/invariant/nominal_state.hpp"
@@ -145,6 +158,7 @@ struct TsifParams {
   double sigma_accel_bias = 0.02;  // [m/s^2]
   Eigen::Vector3d gravity = model::gravity();
   InputLimits limits;  // sensor ranges and the largest dt integrated (estimation/health.hpp)
+  engineering::GatingParams gating;  // the gate of the kinematics residuals (file comment)
 };
 
 class Tsif final : public Estimator {
@@ -156,6 +170,9 @@ class Tsif final : public Estimator {
   std::string name() const override { return "tsif"; }
   // Base from x0, biases zero, feet unknown (weak prior); information from the Params sigmas.
   void reset(const EstimateSample& x0) override;
+  // reset(s.x), then the biases from s and, when s.sigma_tilt is given, roll and pitch prior
+  // sigma_tilt about the world x and y axes (yaw keeps sigma_attitude).
+  void initialise(const InitialState& s) override;
   // One two-state Gauss-Newton solve and marginalisation. Bad input and faults as
   // estimation/estimator.hpp's contract says; normal equations that do not factorise are a failed
   // update (the step is not taken and the filter restarts from its estimate).
@@ -173,6 +190,7 @@ class Tsif final : public Estimator {
   void finishStep(const StepInput& in, bool imu_admitted);
 
   TsifParams params_;
+  engineering::FootGate gate_;
   FootSlots<tsif::kFeet> slots_;  // foot ids of the log -> this filter's foot states
   tsif::State x_;
   tsif::Matrix27 Lambda_ = tsif::Matrix27::Identity();  // information of x_ (tangent at x_)

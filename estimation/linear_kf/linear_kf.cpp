@@ -142,7 +142,8 @@ Eigen::Matrix3d attitudeNoiseBlock(const Eigen::Vector3d& z_a, const Eigen::Vect
 
 // -- The filter --------------------------------------------------------------------------------
 
-LinearKf::LinearKf(const LinearKfParams& params) : params_(params), attitude_(params.attitude) {
+LinearKf::LinearKf(const LinearKfParams& params)
+    : params_(params), gate_(params.gating, "LinearKf"), attitude_(params.attitude) {
   const LinearKfParams& p = params;
   require(p.imu.accel_noise_density >= 0.0 && p.imu.gyro_noise_density >= 0.0,
           "IMU noise densities must be non-negative");
@@ -159,6 +160,7 @@ LinearKf::LinearKf(const LinearKfParams& params) : params_(params), attitude_(pa
 }
 
 void LinearKf::reset(const EstimateSample& x0) {
+  attitude_ = AttitudeFilter(params_.attitude);  // its own priors (initialise() may change them)
   attitude_.reset(lie::SO3d::fromQuaternion(x0.q));
   x_.setZero();
   x_.segment<3>(kP) = x0.p;
@@ -176,7 +178,18 @@ void LinearKf::reset(const EstimateSample& x0) {
   has_previous_ = false;
   t_ = x0.t;
   slots_.reset();
+  gate_.reset();
   startHealth(x0);
+}
+
+void LinearKf::initialise(const InitialState& s) {
+  checkInitialState(s, name());
+  reset(s.x);
+  params_.b_a = s.b_a;
+  AttitudeFilterParams attitude = params_.attitude;
+  if (!std::isnan(s.sigma_tilt)) attitude.sigma_tilt = s.sigma_tilt;
+  attitude_ = AttitudeFilter(attitude);
+  attitude_.reset(lie::SO3d::fromQuaternion(s.x.q), s.b_g);
 }
 
 void LinearKf::step(const StepInput& raw) {
@@ -207,6 +220,8 @@ void LinearKf::step(const StepInput& raw) {
     const double T = std::max(params_.accel_compensation_time, in.dt);
     a_w_ += (x_.segment<3>(kV) - v_before - a_w_ * in.dt) / T;
   }
+  for (int i = 0; i < kFeet; ++i)
+    if (!contact[i]) gate_.clear(i);  // lifted off: its gate clock stops
   previous_contact_ = contact;
   previous_probability_ = probability;
   if (imu_admitted) {
@@ -252,13 +267,35 @@ void LinearKf::predict(double dt, const Eigen::Vector3d& f_w) {
 bool LinearKf::updateStance(const StepInput& in, const Eigen::Vector3d* w_m,
                             const Eigen::Matrix3d& Sigma_theta) {
   const Eigen::Matrix3d& R_hat = attitude_.R().matrix();
+  const leg_odometry::ContactSpan stance = in.stance();
+  // The gate (file comment): a foot that fails it is left out of everything below.
+  std::array<bool, leg_odometry::kMaxContacts> used{};
+  for (std::size_t j = 0; j < stance.size(); ++j) {
+    used[j] = true;
+    if (!gate_.enabled()) continue;
+    const ContactMeasurement& c = stance[j];
+    const int d = footIndex(c.foot);
+    const Eigen::Vector3d z = R_hat * c.p_body;
+    const Eigen::Vector3d y = z - (x_.segment<3>(d) - x_.segment<3>(kP));
+    const Eigen::Matrix3d own = R_hat * c.cov * R_hat.transpose();
+    // S_ii = P_dd - P_dp - P_pd + P_pp + R_ii
+    const Eigen::Matrix3d S = P_.block<3, 3>(d, d) - P_.block<3, 3>(d, kP) - P_.block<3, 3>(kP, d) +
+                              P_.block<3, 3>(kP, kP) + own + attitudeNoiseBlock(z, z, Sigma_theta);
+    const engineering::FootGate::Decision decision = gateBlock(c.foot, y, S, in.t);
+    used[j] = decision == engineering::FootGate::Decision::kUse;
+    if (decision == engineering::FootGate::Decision::kReinitialise) {
+      health_.record(Fault::kGated, in.t);
+      placeFoot(c.foot, z, own + attitudeNoiseBlock(z, z, Sigma_theta));
+    }
+  }
   // The velocity: the base velocity of the stance feet that carry r_dot, averaged with weights
   // p_c (Cov(r_dot_i) = sigma_rdot^2 / p_c), from a virtual foot at their weighted centroid.
   Eigen::Vector3d r_bar = Eigen::Vector3d::Zero(), r_dot_bar = Eigen::Vector3d::Zero();
   Eigen::Matrix3d cov_r_bar = Eigen::Matrix3d::Zero();
   double W = 0.0;  // sum of the weights p_c
-  for (const ContactMeasurement& c : in.stance()) {
-    if (!w_m || !c.v_body || !(c.probability > 0.0)) continue;
+  for (std::size_t j = 0; j < stance.size(); ++j) {
+    const ContactMeasurement& c = stance[j];
+    if (!used[j] || !w_m || !c.v_body || !(c.probability > 0.0)) continue;
     const double p_c = c.probability;
     r_bar += p_c * c.p_body;
     r_dot_bar += p_c * *c.v_body;
@@ -268,7 +305,9 @@ bool LinearKf::updateStance(const StepInput& in, const Eigen::Vector3d* w_m,
   const Eigen::Vector3d w = w_m ? Eigen::Vector3d(*w_m - attitude_.b_g()) : Eigen::Vector3d::Zero();
 
   Stack st;
-  for (const ContactMeasurement& c : in.stance()) {
+  for (std::size_t j = 0; j < stance.size(); ++j) {
+    if (!used[j]) continue;
+    const ContactMeasurement& c = stance[j];
     const int i = st.feet++;
     st.at[i] = footIndex(c.foot);
     st.z[i] = R_hat * c.p_body;                     // z_i = R_hat r_i
@@ -294,6 +333,13 @@ bool LinearKf::updateStance(const StepInput& in, const Eigen::Vector3d* w_m,
     st.at[v] = kV;
     st.z[v] = leg_odometry::baseVelocityFromFoot(R_hat, w, r_bar, r_dot_bar);  // z_v
     st.own[v] = leg_odometry::baseVelocityCovariance(R_hat, w, r_bar, cov_r_bar, noise);
+    if (gate_.enabled()) {
+      // S_vv = P_vv + R_vv; a velocity gated too long is used (kReinitialise)
+      const Eigen::Matrix3d S =
+          P_.block<3, 3>(kV, kV) + st.own[v] + attitudeNoiseBlock(st.z[v], st.z[v], Sigma_theta);
+      const Eigen::Vector3d y = st.z[v] - x_.segment<3>(kV);
+      if (gateBlock(kFeet, y, S, in.t) == engineering::FootGate::Decision::kGate) --st.blocks;
+    }
   }
   // Fixed-size matrices for each possible number of rows (kMaxRows = 15 at most).
   switch (st.blocks) {
@@ -311,6 +357,27 @@ bool LinearKf::updateStance(const StepInput& in, const Eigen::Vector3d* w_m,
       static_assert(kMaxRows == 15, "one case per number of blocks");
       return stackedUpdate<15>(x_, P_, st, Sigma_theta);
   }
+}
+
+engineering::FootGate::Decision LinearKf::gateBlock(int id, const Eigen::Vector3d& y,
+                                                    const Eigen::Matrix3d& S, double t) {
+  const Eigen::LLT<Eigen::Matrix3d> llt(S);
+  // d^2 = y^T S^-1 y = |L^-1 y|^2; an S that does not factorise is left to the update's check
+  if (llt.info() != Eigen::Success) return engineering::FootGate::Decision::kUse;
+  const engineering::FootGate::Decision decision =
+      gate_.decide(id, llt.matrixL().solve(y).squaredNorm(), t);
+  if (decision == engineering::FootGate::Decision::kGate) health_.record(Fault::kGated, t);
+  return decision;
+}
+
+void LinearKf::placeFoot(int i, const Eigen::Vector3d& z, const Eigen::Matrix3d& own) {
+  const int d = footIndex(i);
+  x_.segment<3>(d) = x_.segment<3>(kP) + z;  // d_i = p_hat + z_i
+  // dd_i = dp + n: the rows of p, and P_dd = P_pp + own
+  const Matrix3x18 rows = P_.middleRows<3>(kP);
+  P_.middleRows<3>(d) = rows;
+  P_.middleCols<3>(d) = rows.transpose();
+  P_.block<3, 3>(d, d) = P_.block<3, 3>(kP, kP) + own;
 }
 
 EstimateSample LinearKf::estimate() const {

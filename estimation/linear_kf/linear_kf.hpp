@@ -70,6 +70,14 @@
 // symmetric by construction. H is never formed: its identity blocks make N a set of P's column
 // differences and H N a set of N's row differences.
 //
+// Gating (section 57.9, GatingParams, off by default): before the stacked update, each stance
+// foot's block is tested on its own, d^2 = y_i^T S_ii^-1 y_i with S_ii = H_i P H_i^T + R_ii (its
+// marginal in the stacked S), against the chi-square quantile of 3 dof; a gated foot is left out
+// of the stack and of the velocity's centroid (Fault::kGated). The velocity block, built from the
+// feet that passed, is tested the same way and left out when it fails. A foot gated for longer
+// than max_gated_time is re-initialised from its measurement, d_i = p_hat + z_i with the rows of
+// P of p plus its own noise (engineering/gating.hpp: lock-out); a velocity gated that long is used.
+//
 // Attitude. The filter owns an AttitudeFilter (attitude_filter.hpp) and steps it first, with the
 // same previous IMU sample. An accelerometer cannot tell a tilt from a horizontal acceleration,
 // and a tilt error is expensive here: pitch error times forward speed becomes a vertical velocity
@@ -90,6 +98,7 @@
 #include <array>
 #include <optional>
 
+#include "estimation/engineering/gating.hpp"
 #include "estimation/estimator.hpp"
 #include "estimation/foot_slots.hpp"
 #include "estimation/linear_kf/attitude_filter.hpp"
@@ -199,6 +208,7 @@ struct LinearKfParams {
   AttitudeFilterParams attitude;  // the attitude filter the linear KF owns
   Eigen::Vector3d gravity = model::gravity();
   InputLimits limits;  // sensor ranges and the largest dt integrated (estimation/health.hpp)
+  engineering::GatingParams gating;  // innovation gate of the feet and the velocity (file comment)
 
   // The densities processModel() uses.
   ProcessNoise processNoise() const {
@@ -216,6 +226,10 @@ class LinearKf final : public Estimator {
   // p, v from x0, feet unknown (at p, variance foot_init_sigma^2) and out of contact; the
   // attitude filter from x0's attitude with zero gyro bias.
   void reset(const EstimateSample& x0) override;
+  // reset(s.x), then the attitude filter's gyro bias from s.b_g and, when s.sigma_tilt is given,
+  // its roll and pitch prior; s.b_a replaces the known accelerometer bias (Params::b_a) until the
+  // next initialise().
+  void initialise(const InitialState& s) override;
   // Prediction over in.dt with the previous IMU sample (attitude filter first), then one stacked
   // update of the stance feet and the leg-odometry velocity. Bad input and faults as
   // estimation/estimator.hpp's contract says.
@@ -236,7 +250,15 @@ class LinearKf final : public Estimator {
   bool updateStance(const StepInput& in, const Eigen::Vector3d* w_m,
                     const Eigen::Matrix3d& Sigma_theta);
 
+  // The gate of one 3-row block (id: a foot, or kFeet for the velocity) with innovation y and
+  // marginal S; records Fault::kGated when it decides kGate.
+  engineering::FootGate::Decision gateBlock(int id, const Eigen::Vector3d& y,
+                                            const Eigen::Matrix3d& S, double t);
+  // d_i = p_hat + z_i, its rows of P those of p plus own on the diagonal (a touchdown's placement).
+  void placeFoot(int i, const Eigen::Vector3d& z, const Eigen::Matrix3d& own);
+
   LinearKfParams params_;
+  engineering::FootGate gate_;
   FootSlots<kFeet> slots_;  // foot ids of the log -> this filter's foot states
   AttitudeFilter attitude_;
   Vector18 x_ = Vector18::Zero();
