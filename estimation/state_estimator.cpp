@@ -1,0 +1,226 @@
+#include "estimation/state_estimator.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "estimation/estimators.hpp"
+
+namespace legkit {
+namespace {
+
+// The columns the manager's samples fill: quadruped joints, forces, and the robot's flags when
+// they are the contact source.
+io::LogLayout managerLayout(const Settings& s) {
+  io::LogLayout layout;
+  layout.joints = true;
+  layout.force = true;
+  layout.contact = s.pipeline.contact == "truth";
+  return layout;
+}
+
+std::string filterName(const Settings& s) {
+  return s.estimators.empty() ? std::string("invariant-ekf") : s.estimators.front();
+}
+
+contact::DetectorContext detectorContext(const Settings& s) {
+  contact::DetectorContext c;
+  c.schmitt = s.schmitt;
+  return c;
+}
+
+const Settings& supported(const Settings& s) {
+  if (!s.robot.model.empty()) {
+    throw std::invalid_argument("StateEstimator: robot.model '" + s.robot.model +
+                                "': the manager runs the built-in quadruped only (robot.model "
+                                "must be empty)");
+  }
+  return s;
+}
+
+[[noreturn]] void bad(double t, const std::string& what) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "StateEstimator::update at t = " << t << " s: " << what << "; nothing changed";
+  throw std::invalid_argument(os.str());
+}
+
+}  // namespace
+
+StateEstimator::StateEstimator(const Settings& settings, std::size_t history)
+    : layout_(managerLayout(supported(settings))),
+      estimator_(makeEstimator(filterName(settings))),
+      pipeline_(layout_, model::QuadrupedKinematics(), settings.frontend, settings.pipeline,
+                detectorContext(settings)),
+      ring_(history) {
+  if (history == 0) throw std::invalid_argument("StateEstimator: history must be at least 1");
+  reset();
+}
+
+void StateEstimator::reset() {
+  start_.reset();
+  pipeline_.reset();
+  row_ = io::LogRow{};
+  out_ = EstimatorOutput{};
+  last_t_.reset();
+  head_ = 0;
+  count_ = 0;
+}
+
+void StateEstimator::reset(const EstimateSample& x0) {
+  reset();
+  start_ = x0;
+}
+
+void StateEstimator::check(const ImuSample& imu, const JointSample& joints,
+                           const ForceSample& forces) const {
+  if (!std::isfinite(imu.t)) bad(imu.t, "imu.t is not finite");
+  if (last_t_ && !(imu.t > *last_t_)) {
+    std::ostringstream os;
+    os.precision(17);
+    os << "imu.t is not after the previous sample's " << *last_t_ << " s";
+    bad(imu.t, os.str());
+  }
+  if (!imu.gyro.allFinite()) bad(imu.t, "imu.gyro is not finite");
+  if (!imu.acc.allFinite()) bad(imu.t, "imu.acc is not finite");
+  if (joints.valid) {
+    if (joints.count != io::kNumJoints) {
+      bad(imu.t, "joints.count is " + std::to_string(joints.count) + ", the robot has " +
+                     std::to_string(io::kNumJoints) + " joints");
+    }
+    for (int j = 0; j < joints.count; ++j) {
+      if (!std::isfinite(joints.q[j]))
+        bad(imu.t, "joints.q[" + std::to_string(j) + "] is not finite");
+      if (!std::isfinite(joints.dq[j])) {
+        bad(imu.t, "joints.dq[" + std::to_string(j) + "] is not finite");
+      }
+    }
+  }
+  if (forces.valid) {
+    for (int f = 0; f < layout_.num_feet; ++f) {
+      if (!std::isfinite(forces.force[f])) {
+        bad(imu.t, "forces.force[" + std::to_string(f) + "] is not finite");
+      }
+    }
+  }
+}
+
+const EstimatorOutput& StateEstimator::update(const ImuSample& imu, const JointSample& joints,
+                                              const ForceSample& forces) {
+  check(imu, joints, forces);
+  const bool first = !last_t_;
+  const double dt = first ? 0.0 : imu.t - *last_t_;
+
+  row_.t = imu.t;
+  row_.gyro = imu.gyro;
+  row_.acc = imu.acc;
+  if (joints.valid) {
+    row_.q = joints.q.head<io::kNumJoints>();
+    row_.dq = joints.dq.head<io::kNumJoints>();
+  } else {
+    row_.dq.setZero();  // the last valid angles, held still
+  }
+  for (int f = 0; f < layout_.num_feet; ++f) {
+    row_.force[f] = forces.valid ? forces.force[f] : std::numeric_limits<double>::quiet_NaN();
+    row_.contact[f] = forces.contact[f];
+  }
+
+  if (first) {
+    EstimateSample x0;
+    if (start_) {
+      x0 = *start_;
+    } else {
+      // At rest the accelerometer reads -R^T g: its direction is world up seen from the body.
+      x0.q = Eigen::Quaterniond::FromTwoVectors(imu.acc.normalized(), Eigen::Vector3d::UnitZ());
+    }
+    x0.t = imu.t;
+    estimator_->reset(x0);
+  }
+
+  const StepInput& piped =
+      pipeline_.step(row_, dt, estimator_->estimate(), estimator_->covariance());
+  if (joints.valid) {
+    estimator_->step(piped);
+  } else {
+    legless_ = piped;
+    legless_.num_contacts = 0;
+    estimator_->step(legless_);
+  }
+  last_t_ = imu.t;
+
+  out_.x = estimator_->estimate();
+  const std::optional<BaseCovariance> P = estimator_->covariance();
+  out_.has_covariance = P.has_value();
+  if (P) out_.P = *P;
+  out_.contacts = pipeline_.contacts();
+  out_.health = estimator_->health();
+  const Health& silence = pipeline_.health();
+  for (int f = 0; f < static_cast<int>(Fault::kCount); ++f)
+    out_.health.count[f] += silence.count[f];
+  if (silence.total() > 0 && (out_.health.last_fault == Fault::kCount ||
+                              silence.last_fault_t >= out_.health.last_fault_t)) {
+    out_.health.last_fault = silence.last_fault;
+    out_.health.last_fault_t = silence.last_fault_t;
+  }
+  out_.initialised = true;
+  out_.joints_valid = joints.valid;
+  out_.forces_valid = forces.valid;
+
+  ring_[head_] = out_.x;
+  head_ = (head_ + 1) % ring_.size();
+  if (count_ < ring_.size()) ++count_;
+  return out_;
+}
+
+const EstimateSample& StateEstimator::past(std::size_t k) const {
+  return ring_[(head_ + ring_.size() - 1 - k) % ring_.size()];
+}
+
+double StateEstimator::oldestTime() const {
+  return count_ == 0 ? std::numeric_limits<double>::quiet_NaN() : past(count_ - 1).t;
+}
+
+StateQuery StateEstimator::stateAt(double t, bool nearest) const {
+  if (!std::isfinite(t)) throw std::invalid_argument("StateEstimator::stateAt: t is not finite");
+  if (count_ == 0) {
+    throw std::out_of_range("StateEstimator::stateAt: no state yet (no update since the start)");
+  }
+  const EstimateSample& newest = past(0);
+  if (t >= newest.t) return {newest, t - newest.t, false};
+  if (t < oldestTime()) {
+    std::ostringstream os;
+    os.precision(17);
+    os << "StateEstimator::stateAt: t = " << t << " s is before the oldest buffered state ("
+       << oldestTime() << " s)";
+    throw std::out_of_range(os.str());
+  }
+  // Binary search for the newest state at or before t: k (places back) with
+  // past(k).t <= t < past(k - 1).t; past(count_ - 1).t <= t < past(0).t holds.
+  std::size_t lo = 1, hi = count_ - 1;  // past(hi).t <= t, and the answer is in [lo, hi]
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (past(mid).t <= t) {
+      hi = mid;
+    } else {
+      lo = mid + 1;
+    }
+  }
+  const EstimateSample& a = past(lo);      // a.t <= t
+  const EstimateSample& b = past(lo - 1);  // t < b.t
+  if (nearest) {
+    const EstimateSample& n = (t - a.t <= b.t - t) ? a : b;
+    return {n, t - n.t, false};
+  }
+  if (t == a.t) return {a, 0.0, false};
+  // s in (0, 1): p and v linear, the attitude on the geodesic between the two (slerp).
+  const double s = (t - a.t) / (b.t - a.t);
+  EstimateSample x;
+  x.t = t;
+  x.q = a.q.slerp(s, b.q);
+  x.v = a.v + s * (b.v - a.v);
+  x.p = a.p + s * (b.p - a.p);
+  return {x, 0.0, true};
+}
+
+}  // namespace legkit

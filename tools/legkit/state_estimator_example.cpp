@@ -1,0 +1,189 @@
+// legkit-estimate: the estimator manager (estimation/state_estimator.hpp) on a recorded log, fed
+// row by row as a robot's control loop would feed it (IMU, joints, foot forces), with a model-
+// predictive controller querying it at its own rate. Prints the time per update, the MPC
+// queries' ages and what those ages cost, and (with ground truth) the errors; --out writes the
+// states.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "estimation/state_estimator.hpp"
+#include "eval/metrics.hpp"
+#include "io/log_reader.hpp"
+
+namespace {
+
+using namespace legkit;
+
+// The log's truth at time t (linear between rows; t inside the log).
+Eigen::Vector3d truthPositionAt(const io::Log& log, std::size_t k, double t) {
+  const io::LogRow& a = log.rows[k];
+  if (k + 1 >= log.rows.size() || t <= a.t) return a.gt_p;
+  const io::LogRow& b = log.rows[k + 1];
+  const double s = std::min(1.0, (t - a.t) / (b.t - a.t));
+  return a.gt_p + s * (b.gt_p - a.gt_p);
+}
+
+struct Options {
+  std::string log_path;
+  std::string estimator = "invariant-ekf";
+  std::string contact = "schmitt";
+  double settle = 0.0;
+  double mpc_rate = 100.0;      // [Hz]
+  double mpc_latency = 0.0025;  // [s] the MPC's clock ahead of the newest IMU sample
+  std::string out;
+};
+
+int run(const Options& o) {
+  if (!(o.mpc_rate > 0.0)) throw std::invalid_argument("--mpc-rate must be positive");
+  if (!(o.mpc_latency >= 0.0)) throw std::invalid_argument("--mpc-latency must be >= 0");
+  const io::Log log = io::readLog(o.log_path);
+  if (!log.layout.joints) {
+    throw std::invalid_argument(o.log_path +
+                                ": the manager needs the quadruped's joint columns (q_, dq_)");
+  }
+  if (log.rows.empty()) throw std::invalid_argument(o.log_path + ": no rows");
+  Settings settings;
+  settings.estimators = {o.estimator};
+  settings.pipeline.contact = o.contact;
+  settings.pipeline.settle_time = o.settle;
+  StateEstimator manager(settings);
+  // As `legkit run` does: from the truth's first row when there is one (else the manager's own
+  // start: at rest at the origin, tilt from the accelerometer).
+  if (log.layout.ground_truth) {
+    const io::LogRow& first = log.rows.front();
+    manager.reset(EstimateSample{first.t, first.gt_q, first.gt_v, first.gt_p});
+  }
+
+  std::ofstream out;
+  if (!o.out.empty()) {
+    out.open(o.out);
+    if (!out) throw std::runtime_error("cannot write " + o.out);
+    out << "t,qw,qx,qy,qz,vx,vy,vz,px,py,pz,sigma_px,sigma_py,sigma_pz";
+    for (int f = 0; f < io::kNumLegs; ++f) out << ",contact_" << f << ",p_c_" << f;
+    out << "\n" << std::setprecision(9);
+  }
+
+  ImuSample imu;
+  JointSample joints;
+  ForceSample forces;
+  forces.valid = log.layout.force;
+  std::vector<double> us;  // wall time per update
+  us.reserve(log.rows.size());
+  eval::Trajectory states;
+  states.reserve(log.rows.size());
+  const double mpc_period = 1.0 / o.mpc_rate;
+  double next_mpc = log.rows.front().t;
+  int queries = 0;
+  double age_sum = 0.0, hold_error_sum = 0.0, hold_error_max = 0.0;
+  for (std::size_t k = 0; k < log.rows.size(); ++k) {
+    const io::LogRow& row = log.rows[k];
+    imu = {row.t, row.gyro, row.acc};
+    joints.q.head<io::kNumJoints>() = row.q;
+    joints.dq.head<io::kNumJoints>() = row.dq;
+    for (int f = 0; f < io::kNumLegs; ++f) {
+      forces.force[f] = row.force[f];
+      forces.contact[f] = row.contact[f];
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const EstimatorOutput& x = manager.update(imu, joints, forces);
+    us.push_back(
+        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+    states.push_back(x.x);
+    if (out.is_open()) {
+      out << x.x.t << ',' << x.x.q.w() << ',' << x.x.q.x() << ',' << x.x.q.y() << ',' << x.x.q.z()
+          << ',' << x.x.v.x() << ',' << x.x.v.y() << ',' << x.x.v.z() << ',' << x.x.p.x() << ','
+          << x.x.p.y() << ',' << x.x.p.z();
+      for (int i = 6; i < 9; ++i) {
+        out << ',' << (x.has_covariance ? std::sqrt(x.P.P(i, i)) : std::nan(""));
+      }
+      for (int f = 0; f < io::kNumLegs; ++f) {
+        const contact::FootContact& c = x.contacts.feet[f];
+        out << ',' << (c.usable() && c.contact ? 1 : 0) << ','
+            << (c.usable() ? c.probability : 0.0);
+      }
+      out << "\n";
+    }
+    // The MPC's tick: it asks for the state at its own clock, mpc_latency after this sample.
+    if (row.t >= next_mpc) {
+      next_mpc += mpc_period;
+      const double t_query = row.t + o.mpc_latency;
+      const StateQuery q = manager.stateAt(t_query);
+      ++queries;
+      age_sum += q.age;
+      if (log.layout.ground_truth) {
+        // What the age costs: how far the true base moved between the state's time and the query.
+        const double e = (truthPositionAt(log, k, t_query) - row.gt_p).norm();
+        hold_error_sum += e;
+        hold_error_max = std::max(hold_error_max, e);
+      }
+    }
+  }
+  if (out.is_open() && !out) throw std::runtime_error("error while writing " + o.out);
+
+  std::vector<double> sorted = us;
+  std::sort(sorted.begin(), sorted.end());
+  double mean = 0.0;
+  for (const double u : us) mean += u;
+  mean /= static_cast<double>(us.size());
+  std::cout << std::fixed << std::setprecision(3);
+  std::cout << "log " << o.log_path << ": " << log.rows.size() << " rows, "
+            << (log.rows.back().t - log.rows.front().t) << " s\n"
+            << "manager: " << manager.estimatorName() << " on contacts from "
+            << manager.contactSource() << ", settle " << o.settle << " s\n"
+            << "update: mean " << mean << " us, median " << sorted[sorted.size() / 2] << " us, p99 "
+            << sorted[sorted.size() * 99 / 100] << " us, max " << sorted.back()
+            << " us (wall time on this machine; bench_state_estimator measures it properly)\n";
+  std::cout << "MPC at " << o.mpc_rate << " Hz, clock " << o.mpc_latency * 1e3
+            << " ms after the IMU: " << queries << " queries, mean age " << age_sum / queries * 1e3
+            << " ms";
+  if (log.layout.ground_truth) {
+    std::cout << "; the truth moved " << hold_error_sum / queries * 1e3 << " mm on average (max "
+              << hold_error_max * 1e3 << " mm) over that age";
+  }
+  std::cout << "\n";
+  if (log.layout.ground_truth) {
+    const eval::Metrics m = eval::compare(log, states);
+    std::cout << "against the truth: position RMSE " << m.position_rmse << " m, velocity RMSE "
+              << m.velocity_rmse << " m/s, tilt RMSE " << m.tilt_rmse_deg << " deg, yaw RMSE "
+              << m.yaw_rmse_deg << " deg (started from the truth's first row)\n";
+  }
+  const Health& h = manager.output().health;
+  std::cout << "health: " << h.total() << " faults\n";
+  if (!o.out.empty()) std::cout << "states written to " << o.out << "\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"legkit-estimate: the estimator manager (57.11) on a log, row by row"};
+  Options o;
+  app.add_option("log", o.log_path, "Log (CSV) with joint and foot-force columns")->required();
+  app.add_option("--estimator", o.estimator, "Filter")->capture_default_str();
+  app.add_option("--contact", o.contact, "Contact detector, or truth for the log's flags")
+      ->capture_default_str();
+  app.add_option("--settle", o.settle, "Touchdown settling [s]")->capture_default_str();
+  app.add_option("--mpc-rate", o.mpc_rate, "MPC query rate [Hz]")->capture_default_str();
+  app.add_option("--mpc-latency", o.mpc_latency, "MPC clock ahead of the newest IMU sample [s]")
+      ->capture_default_str();
+  app.add_option("--out", o.out, "Write the states (CSV)");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 1;
+  }
+  try {
+    return run(o);
+  } catch (const std::exception& e) {
+    std::cerr << "legkit-estimate: " << e.what() << "\n";
+    return 2;
+  }
+}
