@@ -5,13 +5,14 @@
 //   roll/pitch (tilt): the angle between the estimated and true gravity directions seen from
 //             the body, atan2(|a x b|, a.b) with a = R_hat^T z, b = R^T z. Blind to yaw.
 //   yaw       psi_hat - psi wrapped to (-pi, pi], psi = atan2(R_10, R_00) the heading.
-// Summaries: RMSE over all rows, sqrt(mean |e|^2); drift = |e_p| at the last row as a percentage
+// Summaries: RMSE over the rows with a valid truth (all of them unless the log flags some),
+// sqrt(mean |e|^2); drift = |e_p| at the last such row as a percentage
 // of the distance travelled by the truth (below: not inflated by jitter).
 // Trajectory benchmarks as the odometry literature reports them (Sturm et al. 2012, Zhang and
 // Scaramuzza 2018), with poses T = (R, p):
 //   ATE  absolute trajectory error: the estimate is first moved by the rigid transform that puts
 //        its first pose on the true first pose, T_a = T_0 T_hat_0^-1; then the RMSE of
-//        |p_k - p_a,k| over all rows.
+//        |p_k - p_a,k| over the rows.
 //   RPE  relative pose error over a distance d: for every row i, j is the first row at which the
 //        truth has travelled d further; E = (T_i^-1 T_j)^-1 (T_hat_i^-1 T_hat_j) compares the
 //        two relative motions; the RMSE of its translation |t_E| (also as % of d) and of its
@@ -29,8 +30,8 @@
 //    truth jittering by millimetres travels 0 m, not metres; a path is undercounted by less than
 //    d_min. RPE's distances are measured the same way.
 // Whatever cannot be computed is "not computed", never 0: an RPE without a single pair
-// (computed = false, its errors NaN), the drift of a truth that never moved d_min (NaN). Printers
-// show NaN as "n/c" and summary.json as null.
+// (computed = false, its errors NaN), the drift of a truth that never moved d_min (NaN);
+// summary.json writes a NaN as null.
 #pragma once
 
 #include <limits>
