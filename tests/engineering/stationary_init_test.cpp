@@ -1,6 +1,7 @@
 // Stationary initialisation (section 57.9): a simulated stand with a known gyro bias and tilt is
 // recovered within what the window's noise justifies; a trotting robot never looks still; the
-// search gives up after max_wait; add() never allocates; the filters take the result.
+// search gives up after max_wait; add() never allocates; the filters take the result. (This
+// program counts allocations, so the gated filters' no-allocation check lives here too.)
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -12,6 +13,7 @@
 #include "estimation/invariant/invariant_ekf.hpp"
 #include "estimation/invariant/tsif.hpp"
 #include "estimation/linear_kf/linear_kf.hpp"
+#include "estimation/log_frontend.hpp"
 #include "lie/so3.hpp"
 #include "model/imu_noise.hpp"
 #include "sim/simulator.hpp"
@@ -182,4 +184,38 @@ TEST_CASE("stationary init: every filter starts from the result", "[57.9][statio
   InitialState bad = s;
   bad.sigma_tilt = -1.0;
   CHECK_THROWS_WITH(eskf.initialise(bad), Catch::Contains("sigma_tilt"));
+}
+
+TEST_CASE("gating: a filter with the gate on never allocates in step()", "[57.9][gating]") {
+  sim::SimOptions options;
+  options.scenario = sim::scenarioByName("trot");
+  options.duration = 1.0;
+  const io::Log log = sim::simulate(options).log;
+  std::vector<StepInput> in =
+      LogFrontend(log.layout, model::QuadrupedKinematics(), FrontendNoise{}).inputs(log);
+  for (StepInput& s : in)  // every tenth sample's first foot 1 m off: gated, then re-placed
+    if (s.num_contacts > 0 && static_cast<int>(s.t * 1000) % 10 == 0) s.contacts[0].p_body.x() += 1;
+  engineering::GatingParams gating;
+  gating.enabled = true;
+  invariant::EskfParams eskf;
+  eskf.gating = gating;
+  invariant::InvariantEkfParams inekf;
+  inekf.gating = gating;
+  invariant::TsifParams tsif;
+  tsif.gating = gating;
+  linear_kf::LinearKfParams lkf;
+  lkf.gating = gating;
+  invariant::Eskf a(eskf);
+  invariant::InvariantEkf b(inekf);
+  invariant::Tsif c(tsif);
+  linear_kf::LinearKf d(lkf);
+  for (Estimator* e : std::initializer_list<Estimator*>{&a, &b, &c, &d}) {
+    INFO(e->name());
+    e->reset(EstimateSample{});
+    for (std::size_t k = 0; k < 100; ++k) e->step(in[k]);  // the InEKF sizes its P once
+    const long before = test::allocationCount();
+    for (std::size_t k = 100; k < in.size(); ++k) e->step(in[k]);
+    CHECK(test::allocationCount() == before);
+    CHECK(e->health()[Fault::kGated] > 0);
+  }
 }
