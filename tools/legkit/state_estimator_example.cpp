@@ -22,12 +22,14 @@ namespace {
 
 using namespace legkit;
 
-// The log's truth at time t (linear between rows; t inside the log).
+// The log's truth position at time t >= rows[k].t (linear between the two rows around t; the
+// last row's after the log's end).
 Eigen::Vector3d truthPositionAt(const io::Log& log, std::size_t k, double t) {
+  while (k + 1 < log.rows.size() && log.rows[k + 1].t <= t) ++k;
   const io::LogRow& a = log.rows[k];
-  if (k + 1 >= log.rows.size() || t <= a.t) return a.gt_p;
+  if (k + 1 == log.rows.size()) return a.gt_p;
   const io::LogRow& b = log.rows[k + 1];
-  const double s = std::min(1.0, (t - a.t) / (b.t - a.t));
+  const double s = (t - a.t) / (b.t - a.t);
   return a.gt_p + s * (b.gt_p - a.gt_p);
 }
 
