@@ -1,5 +1,6 @@
 #include "estimation/engineering/monitors.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -78,7 +79,8 @@ void HealthMonitor::set(Alarm a, bool on, double t) {
 
 const MonitorReport& HealthMonitor::update(const MonitorInput& in) {
   const bool first = std::isnan(t_prev_);
-  const double dt = first ? 0.0 : in.t - t_prev_;
+  // A sample not after the previous one (a clock that stepped back) integrates nothing.
+  const double dt = first ? 0.0 : std::max(0.0, in.t - t_prev_);
   if (first) t_first_ = in.t;
 
   // IMU dropout: the interval that ends with this sample is over the bound. The filter held the

@@ -272,23 +272,29 @@ TEST_CASE("monitors: reset forgets, bad parameters throw, no allocation per upda
   CHECK_THROWS_WITH(HealthMonitor(bad, 4, kDt), Catch::Contains("exteroception_timeout"));
 
   HealthMonitor m(MonitorParams{}, 4, kDt);
-  BaseCovariance P;
+  BaseCovariance P, wide;
+  wide.P *= 400.0;  // position sigma 20 m
   Health h;
   std::vector<MonitorInput> inputs;
   for (int k = 0; k < 3000; ++k) {
     MonitorInput in = healthy(k);
-    in.P = &P;
+    in.P = k > 2500 ? &wide : &P;  // covariance growth
     in.health = &h;
     in.has_exteroception = true;
-    if (k > 1000) in.force[0] += 50.0;  // drift raised on the way
-    if (k > 1500) in.q[0] = 0.1;        // frozen
-    if (k % 500 == 0) in.t += 0.0005;   // late samples
+    if (k > 1000) in.force[0] += 50.0;  // drift
+    if (k > 1500) in.q[0] = 0.1;        // frozen ...
+    if (k > 1500) in.dq[0] = 0.0;       // ... rate 0
+    if (k > 2000) in.t += 0.003;        // one dropout (3 periods) at row 2001
     inputs.push_back(in);
   }
   const long before = test::allocationCount();
   for (const MonitorInput& in : inputs) m.update(in);
   CHECK(test::allocationCount() == before);
   CHECK(m.report().uncertain);
+  for (const Alarm a :
+       {Alarm::kImuDropout, Alarm::kStuckEncoder, Alarm::kForceDrift, Alarm::kCovarianceGrowth}) {
+    CHECK(m.report().count[static_cast<int>(a)] == 1);
+  }
   m.reset();
   for (int a = 0; a < kNumAlarms; ++a) {
     CHECK_FALSE(m.report().active[a]);
