@@ -45,7 +45,7 @@ std::vector<AllanPoint> allanDeviation(const Eigen::Ref<const Eigen::VectorXd>& 
       throw std::invalid_argument("allanDeviation: averaging factor " + std::to_string(m) +
                                   " outside 1.." + std::to_string(n / 4));
     const Eigen::Index terms = n + 1 - 2 * m;  // second differences in the record
-    // sum (x_{i+2m} - 2 x_{i+m} + x_i)^2 over i = 0 .. N - 2m (NIST SP 1065, eq. 14)
+    // sum (x_{i+2m} - 2 x_{i+m} + x_i)^2 over i = 0 .. N - 2m (NIST SP 1065)
     const double sum =
         (x.segment(2 * m, terms) - 2.0 * x.segment(m, terms) + x.head(terms)).squaredNorm();
     AllanPoint p;

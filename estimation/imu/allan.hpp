@@ -3,7 +3,7 @@
 //
 // For a rate signal y_k sampled every tau0 (a gyro axis in rad/s, an accelerometer axis in m/s^2)
 // the phase x_i = tau0 sum_{k<i} (y_k - mean y) turns the overlapping Allan variance at tau = m
-// tau0 into one pass over the record (NIST SP 1065, eq. 14):
+// tau0 into one pass over the record (NIST SP 1065, the phase form):
 //   sigma^2(tau) = sum_{i=0}^{N-2m} (x_{i+2m} - 2 x_{i+m} + x_i)^2 / (2 tau^2 (N + 1 - 2m)),
 // which is O(N) per tau. The lines of the log-log plot give the noise terms (IEEE Std 952):
 //   white noise (slope -1/2):       sigma(tau) = N_w / sqrt(tau)     -> N_w = sigma(1 s) on the
@@ -27,11 +27,13 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // One point of an Allan deviation curve.
 struct AllanPoint {
-  int m = 0;                  // averaging factor: samples per cluster
-  double tau = 0.0;           // averaging time m tau0 [s]
-  double adev = 0.0;          // overlapping Allan deviation sigma(tau) [unit of the signal]
-  double clusters = 0.0;      // n = N / m: independent clusters in the record
-  double lo = 0.0, hi = 0.0;  // 1-sigma interval adev (1 -+ 1 / sqrt(n)) (NIST SP 1065, 5.3)
+  int m = 0;              // averaging factor: samples per cluster
+  double tau = 0.0;       // averaging time m tau0 [s]
+  double adev = 0.0;      // overlapping Allan deviation sigma(tau) [unit of the signal]
+  double clusters = 0.0;  // n = N / m: independent clusters in the record
+  // The 1-sigma interval adev (1 -+ 1 / sqrt(n)), NIST SP 1065's simple rule (n >= 4: lo > 0).
+  double lo = 0.0;
+  double hi = 0.0;
 };
 
 // Averaging factors m = round(ratio^k), k = 0, 1, ..., each distinct, up to samples / 4 (the
