@@ -44,6 +44,7 @@ Settings managerSettings(const std::string& estimator, const std::string& contac
   Settings s;
   s.estimators = {estimator};
   s.pipeline.contact = contact;
+  s.initialisation.enabled = false;  // the filter from the first sample: every update timed runs it
   return s;
 }
 

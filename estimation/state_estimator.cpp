@@ -51,6 +51,8 @@ const Settings& supported(const Settings& s) {
 StateEstimator::StateEstimator(const Settings& settings, std::size_t history)
     : layout_(managerLayout(supported(settings))),
       estimator_(makeEstimator(filterName(settings))),
+      init_params_(settings.initialisation),
+      init_(settings.initialisation),
       pipeline_(layout_, model::QuadrupedKinematics(), settings.frontend, settings.pipeline,
                 detectorContext(settings)),
       ring_(history) {
@@ -60,6 +62,8 @@ StateEstimator::StateEstimator(const Settings& settings, std::size_t history)
 
 void StateEstimator::reset() {
   start_.reset();
+  running_ = false;
+  init_.reset();
   pipeline_.reset();
   row_ = io::LogRow{};
   out_ = EstimatorOutput{};
@@ -109,7 +113,18 @@ void StateEstimator::check(const ImuSample& imu, const JointSample& joints,
 const EstimatorOutput& StateEstimator::update(const ImuSample& imu, const JointSample& joints,
                                               const ForceSample& forces) {
   check(imu, joints, forces);
-  const bool first = !last_t_;
+  if (!running_ && !start_ && init_params_.enabled && !init_.gaveUp()) {
+    if (!init_.add(imu.t, {imu.gyro, imu.acc}) && !init_.gaveUp()) {
+      last_t_ = imu.t;  // still waiting for a still window
+      out_.x = EstimateSample{};
+      out_.x.t = imu.t;
+      out_.initialising = true;
+      out_.joints_valid = joints.valid;
+      out_.forces_valid = forces.valid;
+      return out_;
+    }
+  }
+  const bool first = !running_;
   const double dt = first ? 0.0 : imu.t - *last_t_;
 
   row_.t = imu.t;
@@ -127,15 +142,22 @@ const EstimatorOutput& StateEstimator::update(const ImuSample& imu, const JointS
   }
 
   if (first) {
-    EstimateSample x0;
-    if (start_) {
-      x0 = *start_;
+    if (init_.ready() && !start_) {
+      InitialState s = init_.result();  // roll, pitch and gyro bias of the still window
+      s.x.t = imu.t;
+      estimator_->initialise(s);
     } else {
-      // At rest the accelerometer reads -R^T g: its direction is world up seen from the body.
-      x0.q = Eigen::Quaterniond::FromTwoVectors(imu.acc.normalized(), Eigen::Vector3d::UnitZ());
+      EstimateSample x0;
+      if (start_) {
+        x0 = *start_;
+      } else {
+        // At rest the accelerometer reads -R^T g: its direction is world up seen from the body.
+        x0.q = Eigen::Quaterniond::FromTwoVectors(imu.acc.normalized(), Eigen::Vector3d::UnitZ());
+      }
+      x0.t = imu.t;
+      estimator_->reset(x0);
     }
-    x0.t = imu.t;
-    estimator_->reset(x0);
+    running_ = true;
   }
 
   const StepInput& piped =
@@ -164,6 +186,7 @@ const EstimatorOutput& StateEstimator::update(const ImuSample& imu, const JointS
     out_.health.last_fault_t = silence.last_fault_t;
   }
   out_.initialised = true;
+  out_.initialising = false;
   out_.joints_valid = joints.valid;
   out_.forces_valid = forces.valid;
 

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "estimation/contact_pipeline.hpp"
+#include "estimation/engineering/stationary_init.hpp"
 #include "estimation/estimator.hpp"
 #include "estimation/settings.hpp"
 #include "io/log.hpp"
@@ -63,7 +64,8 @@ struct EstimatorOutput {
   contact::ContactEstimate contacts;  // per foot: the flag and p_c the filter was given
   Health health;             // the filter's faults and the pipeline's (kNoContact), since the start
   bool initialised = false;  // the filter is running; x is its estimate
-  bool joints_valid = true;  // as given with this sample
+  bool initialising = false;  // waiting for a still window (57.9); x is not an estimate yet
+  bool joints_valid = true;   // as given with this sample
   bool forces_valid = false;
 };
 
@@ -91,10 +93,15 @@ class StateEstimator {
 
   // One control-loop tick. Throws std::invalid_argument naming the field and the time for a
   // time not after the previous sample's, a non-finite number in a sample marked valid, or a
-  // joint count other than the robot's; then nothing changes. The first sample starts the filter
-  // at rest at the origin, yaw 0, roll and pitch from that one accelerometer sample, unless
-  // reset(x0) gave a start. One sample is a poor tilt: 15.7 deg off on the standing physics trot
-  // (the WARN of test_state_estimator), where a 2 s still window (57.9) averages the noise out.
+  // joint count other than the robot's; then nothing changes. The start: with
+  // settings.initialisation.enabled (and no reset(x0)), the IMU samples go to the stationary
+  // initialiser (57.9, engineering/stationary_init.hpp) until it finds a still window: until then
+  // the output says initialising and nothing is buffered; then the filter starts from its roll,
+  // pitch and gyro bias (Estimator::initialise) at rest at the origin, yaw 0. Without it, or when
+  // it gives up (max_wait without a still window), the filter starts at the current sample at
+  // rest at the origin, yaw 0, roll and pitch from that one accelerometer reading: a poor tilt,
+  // 15.7 deg off on the standing physics trot (the WARN of test_state_estimator), which the
+  // window's average takes below 1 deg. reset(x0) starts from x0 at the next sample instead.
   // The reference stays valid until the next update() or reset().
   const EstimatorOutput& update(const ImuSample& imu, const JointSample& joints,
                                 const ForceSample& forces);
@@ -128,11 +135,14 @@ class StateEstimator {
   io::LogLayout layout_;
   std::unique_ptr<Estimator> estimator_;
   ContactPipeline pipeline_;
+  engineering::StationaryInitParams init_params_;
+  engineering::StationaryInitialiser init_;
   std::optional<EstimateSample> start_;  // reset(x0)
+  bool running_ = false;                 // the filter has been started
   io::LogRow row_;                       // the samples as a log row
   StepInput legless_;                    // the pipeline's input without feet (joints invalid)
   EstimatorOutput out_;
-  std::optional<double> last_t_;
+  std::optional<double> last_t_;      // the previous sample's time (also while initialising)
   std::vector<EstimateSample> ring_;  // sized once: the last ring_.size() states
   std::size_t head_ = 0;              // where the next state goes
   std::size_t count_ = 0;
