@@ -7,14 +7,13 @@
 
 namespace legkit {
 
-ContactPipeline::ContactPipeline(const io::LogLayout& layout,
-                                 const model::QuadrupedKinematics& kinematics,
-                                 const FrontendNoise& noise, const PipelineOptions& options,
+ContactPipeline::ContactPipeline(const LogFrontend& frontend, const PipelineOptions& options,
                                  std::unique_ptr<contact::ContactDetector> detector)
-    : frontend_(layout, kinematics, noise),
+    : frontend_(frontend),
       options_(options),
+      rolls_(options.rolling_foot && frontend.layout().joints && frontend.extrinsic().isIdentity()),
       detector_(std::move(detector)),
-      rolling_(kinematics.geometry()),
+      rolling_(frontend.quadruped().geometry()),
       guard_(options.slip_params, options.slip) {
   touchdown_t_.fill(-std::numeric_limits<double>::infinity());
   if (!(options.no_contact_bound > 0.0) || !std::isfinite(options.no_contact_bound)) {
@@ -29,19 +28,29 @@ ContactPipeline::ContactPipeline(const io::LogLayout& layout,
     throw std::invalid_argument("ContactPipeline: no detector for the contact source '" +
                                 options.contact + "'");
   }
-  if (!detector_ && !layout.contact) {
+  if (!detector_ && !frontend.layout().contact) {
     throw std::invalid_argument(
         "contact source 'truth': the log has no contact columns (choose a detector)");
   }
 }
 
+ContactPipeline::ContactPipeline(const LogFrontend& frontend, const PipelineOptions& options,
+                                 const contact::DetectorContext& context)
+    : ContactPipeline(
+          frontend, options,
+          options.contact == "truth" ? nullptr : contact::makeDetector(options.contact, context)) {}
+
+ContactPipeline::ContactPipeline(const io::LogLayout& layout,
+                                 const model::QuadrupedKinematics& kinematics,
+                                 const FrontendNoise& noise, const PipelineOptions& options,
+                                 std::unique_ptr<contact::ContactDetector> detector)
+    : ContactPipeline(LogFrontend(layout, kinematics, noise), options, std::move(detector)) {}
+
 ContactPipeline::ContactPipeline(const io::LogLayout& layout,
                                  const model::QuadrupedKinematics& kinematics,
                                  const FrontendNoise& noise, const PipelineOptions& options,
                                  const contact::DetectorContext& context)
-    : ContactPipeline(
-          layout, kinematics, noise, options,
-          options.contact == "truth" ? nullptr : contact::makeDetector(options.contact, context)) {}
+    : ContactPipeline(LogFrontend(layout, kinematics, noise), options, context) {}
 
 double settleWeight(double since_touchdown, double settle_time) {
   return since_touchdown < settle_time ? 0.0 : 1.0;
@@ -54,6 +63,7 @@ std::string ContactPipeline::source() const {
 void ContactPipeline::reset() {
   if (detector_) detector_->reset();
   rolling_.reset();
+  velocities_.reset();
   guard_.reset();
   health_ = Health{};
   last_stance_t_.reset();
@@ -96,11 +106,11 @@ const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const E
     settling_[foot] = settleWeight(row.t - touchdown_t_[foot], options_.settle_time) == 0.0;
   }
   if (detector_) {
-    input_ = frontend_.input(row, dt, contacts_, options_.soft);
+    input_ = frontend_.input(row, dt, contacts_, options_.soft, &velocities_);
   } else {
-    input_ = frontend_.input(row, dt);  // the log's flags, as they have always been read
+    input_ = frontend_.input(row, dt, &velocities_);  // the log's flags, as always read
   }
-  if (options_.rolling_foot && frontend_.layout().joints) {
+  if (rolls_) {
     rolling_.apply(input_, x.q.toRotationMatrix(), row.q, row.dq);
   }
   // Silence of the contact source (a slip reaction dropping feet is not silence): no stance foot

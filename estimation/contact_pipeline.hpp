@@ -1,7 +1,8 @@
 // From log rows to estimator inputs on detected contacts (sections 57.6 and 57.7): per row,
 //   signals (LogFrontend::signals, with the estimator's estimate of the previous step)
 //   -> a contact detector (or the log's contact_ flags for the source "truth")
-//   -> StepInput (stance feet weighted by their contact probability, LogFrontend::input)
+//   -> StepInput (stance feet weighted by their contact probability, LogFrontend::input, in the
+//      IMU frame; foot columns without velocity columns differentiated, FootVelocityDifferentiator)
 //   -> RollingFoot (option: a stance foot is the ground point its sphere touched, not the
 //      sphere's centre, which rolls; joint logs only)
 //   -> SlipGuard (57.7: each stance foot's velocity residual against the estimate and its
@@ -90,6 +91,14 @@ class ContactPipeline {
   ContactPipeline(const io::LogLayout& layout, const model::QuadrupedKinematics& kinematics,
                   const FrontendNoise& noise, const PipelineOptions& options,
                   const contact::DetectorContext& context);
+  // The same two on a front end made by the caller: with an IMU extrinsic, or with a robot's
+  // LegKinematics for generic joints (LogFrontend's constructors). The rolling foot acts only on
+  // quadruped joints with the identity extrinsic (RollingFoot takes the calf's rate in the base
+  // frame and the feet in the body frame, which then differ); otherwise it is left out.
+  ContactPipeline(const LogFrontend& frontend, const PipelineOptions& options,
+                  std::unique_ptr<contact::ContactDetector> detector = nullptr);
+  ContactPipeline(const LogFrontend& frontend, const PipelineOptions& options,
+                  const contact::DetectorContext& context);
 
   // "truth" or the detector's name.
   std::string source() const;
@@ -113,8 +122,10 @@ class ContactPipeline {
  private:
   LogFrontend frontend_;
   PipelineOptions options_;
+  bool rolls_ = false;  // the rolling foot applies (options and front end, above)
   std::unique_ptr<contact::ContactDetector> detector_;
   leg_odometry::RollingFoot rolling_;
+  FootVelocityDifferentiator velocities_;  // foot columns without velocity columns
   slip::SlipGuard guard_;
   contact::ContactEstimate contacts_;                    // the source's answer
   std::array<bool, contact::kMaxFeet> down_{};           // the source's contact, last row

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "estimation/imu_extrinsic_frames.hpp"
 #include "eval/consistency.hpp"
 
 namespace legkit::eval {
@@ -24,10 +25,12 @@ bool finite(const EstimateSample& x) {
 }
 
 // The run of runOnLog: input_of(k, dt) gives row k's input (the estimator not yet stepped on
-// it); after_row() runs once that row's estimate has been recorded.
+// it); after_row() runs once that row's estimate has been recorded. The estimator runs in the
+// IMU frame of `extrinsic`; x0 and what is recorded are the base's.
 template <typename InputOf, typename AfterRow>
-RunResult runRows(Estimator& estimator, const io::Log& log, const EstimateSample& x0,
-                  const InputOf& input_of, const AfterRow& after_row) {
+RunResult runRows(Estimator& estimator, const io::Log& log, const model::ImuExtrinsic& extrinsic,
+                  const EstimateSample& x0, const InputOf& input_of, const AfterRow& after_row) {
+  const bool moved = !extrinsic.isIdentity();
   RunResult result;
   result.name = estimator.name();
   result.trajectory.reserve(log.rows.size());
@@ -43,7 +46,10 @@ RunResult runRows(Estimator& estimator, const io::Log& log, const EstimateSample
     result.failure = std::move(f);
   };
   try {
-    estimator.reset(x0);
+    // The IMU's initial state from the base's, with row 0's rate (w_B = R_BI w_I).
+    estimator.reset(moved && !log.rows.empty()
+                        ? imuFromBase(extrinsic, x0, extrinsic.q_BI * log.rows.front().gyro)
+                        : x0);
   } catch (const std::exception& e) {
     fail(std::string("reset threw: ") + e.what());
   } catch (...) {
@@ -58,12 +64,15 @@ RunResult runRows(Estimator& estimator, const io::Log& log, const EstimateSample
       estimator.step(in);
       busy += std::chrono::steady_clock::now() - t0;
       ++steps;
-      const EstimateSample x = estimator.estimate();
-      if (!finite(x)) {
+      const EstimateSample x_I = estimator.estimate();
+      if (!finite(x_I)) {
         fail("non-finite estimate");
         break;
       }
-      const std::optional<BaseCovariance> cov = estimator.covariance();
+      // Back to the base with the row's measured rate (bias not removed: the interface has none).
+      const EstimateSample x = moved ? baseFromImu(extrinsic, x_I, row.gyro) : x_I;
+      std::optional<BaseCovariance> cov = estimator.covariance();
+      if (moved && cov) cov = baseCovarianceFromImu(extrinsic, x_I, row.gyro, *cov);
       if (cov && !cov->P.allFinite()) {
         fail("non-finite covariance");
         break;
@@ -107,10 +116,11 @@ RunResult runRows(Estimator& estimator, const io::Log& log, const EstimateSample
 RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& frontend,
                    const EstimateSample& x0) {
   StepInput in;
+  FootVelocityDifferentiator velocities;
   return runRows(
-      estimator, log, x0,
+      estimator, log, frontend.extrinsic(), x0,
       [&](std::size_t k, double dt) -> const StepInput& {
-        in = frontend.input(log.rows[k], dt);
+        in = frontend.input(log.rows[k], dt, &velocities);
         return in;
       },
       [] {});
@@ -127,7 +137,7 @@ RunResult runOnLog(Estimator& estimator, const io::Log& log, ContactPipeline& pi
   slip.reserve(log.rows.size());
   std::array<bool, contact::kMaxFeet> stance{};  // of the row being run
   RunResult result = runRows(
-      estimator, log, x0,
+      estimator, log, pipeline.frontend().extrinsic(), x0,
       [&](std::size_t k, double dt) -> const StepInput& {
         const auto t0 = std::chrono::steady_clock::now();
         const StepInput& in =

@@ -68,6 +68,15 @@ double normalisedAnees(const RunResult& run);
 // its estimate after each row, and, for a filter, its standard deviations and (when the log has
 // ground truth) its NEES.
 //
+// Frames: x0, the recorded trajectory, sigma and NEES are the BASE's (the ground truth's frame).
+// With an IMU extrinsic on the front end the estimator runs in the IMU frame: it starts from
+// imuFromBase(x0) with row 0's rate, and each estimate and covariance is moved back with
+// baseFromImu / baseCovarianceFromImu (estimation/imu_extrinsic_frames.hpp) at the row's
+// measured gyro rate w: its bias is not removed (the Estimator interface does not report one;
+// 0.01 rad/s of bias at a 0.2 m lever arm is 2 mm/s of base velocity). A log of foot columns
+// without velocity columns gets its foot velocities from a FootVelocityDifferentiator run with
+// the stance flags (log_frontend.hpp).
+//
 // Every estimate is checked. If the estimator (or the front end) throws, or returns a non-finite
 // estimate, or a covariance that is not finite or whose NEES block is not symmetric positive
 // definite, the run stops at that row and result.failure says why and where; runOnLog itself

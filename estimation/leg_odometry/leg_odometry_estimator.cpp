@@ -1,5 +1,8 @@
 #include "estimation/leg_odometry/leg_odometry_estimator.hpp"
 
+#include <stdexcept>
+#include <string>
+
 #include "estimation/leg_odometry/velocity_fusion.hpp"
 
 namespace legkit::leg_odometry {
@@ -14,6 +17,18 @@ void LegOdometryEstimator::reset(const EstimateSample& x0) {
 }
 
 void LegOdometryEstimator::step(const StepInput& raw) {
+  // Legs without a velocity would leave the IMU alone: dead reckoning under this estimator's
+  // name. Refused, before anything changes, except at a first sample (x0 gives the velocity).
+  if (has_previous_) {
+    for (const ContactMeasurement& c : raw.stance()) {
+      if (c.v_body) continue;
+      throw std::invalid_argument(
+          "LegOdometryEstimator: at t = " + std::to_string(raw.t) + " stance foot " +
+          std::to_string(c.foot) +
+          " has no velocity (v_body): leg odometry has nothing to measure (a log of foot "
+          "positions needs foot<k>_vx columns or the front end's FootVelocityDifferentiator)");
+    }
+  }
   InputCopies copies;
   const auto [in, imu_admitted] =
       admit(raw, has_previous_, limits_, "LegOdometryEstimator", copies);

@@ -20,7 +20,10 @@ class LegOdometryEstimator final : public Estimator {
   std::string name() const override { return "leg-odometry"; }
   void reset(const EstimateSample& x0) override;
   // Bad input and faults as estimation/estimator.hpp's contract says; a sample whose IMU reading
-  // was not admitted takes its rate from the held one.
+  // was not admitted takes its rate from the held one. A stance foot without v_body after the
+  // first sample throws std::invalid_argument naming it and the time: leg odometry never runs
+  // silently on the IMU alone (a run reports it as its failure, eval/runner.hpp). At a first
+  // sample such feet leave the velocity at x0's.
   void step(const StepInput& in) override;
   EstimateSample estimate() const override;
 
