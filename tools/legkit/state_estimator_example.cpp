@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -38,6 +39,7 @@ struct Options {
   std::string estimator = "invariant-ekf";
   std::string contact = "schmitt";
   double settle = 0.0;
+  double init_duration = -1.0;  // [s] still window; 0: off; < 0: the settings' default
   double mpc_rate = 100.0;      // [Hz]
   double mpc_latency = 0.0025;  // [s] the MPC's clock ahead of the newest IMU sample
   std::string out;
@@ -56,6 +58,8 @@ int run(const Options& o) {
   settings.estimators = {o.estimator};
   settings.pipeline.contact = o.contact;
   settings.pipeline.settle_time = o.settle;
+  if (o.init_duration == 0.0) settings.initialisation.enabled = false;
+  if (o.init_duration > 0.0) settings.initialisation.duration = o.init_duration;
   StateEstimator manager(settings);
   // As `legkit run` does: from the truth's first row when there is one (else the manager's own
   // start: at rest at the origin, tilt from the accelerometer).
@@ -68,7 +72,7 @@ int run(const Options& o) {
   if (!o.out.empty()) {
     out.open(o.out);
     if (!out) throw std::runtime_error("cannot write " + o.out);
-    out << "t,qw,qx,qy,qz,vx,vy,vz,px,py,pz,sigma_px,sigma_py,sigma_pz";
+    out << "t,initialised,qw,qx,qy,qz,vx,vy,vz,px,py,pz,sigma_px,sigma_py,sigma_pz";
     for (int f = 0; f < io::kNumLegs; ++f) out << ",contact_" << f << ",p_c_" << f;
     out << "\n" << std::setprecision(9);
   }
@@ -84,6 +88,7 @@ int run(const Options& o) {
   const double mpc_period = 1.0 / o.mpc_rate;
   double next_mpc = log.rows.front().t;
   int queries = 0;
+  std::optional<double> start_t;  // the filter's first sample
   double age_sum = 0.0, hold_error_sum = 0.0, hold_error_max = 0.0;
   for (std::size_t k = 0; k < log.rows.size(); ++k) {
     const io::LogRow& row = log.rows[k];
@@ -100,9 +105,9 @@ int run(const Options& o) {
         std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
     states.push_back(x.x);
     if (out.is_open()) {
-      out << x.x.t << ',' << x.x.q.w() << ',' << x.x.q.x() << ',' << x.x.q.y() << ',' << x.x.q.z()
-          << ',' << x.x.v.x() << ',' << x.x.v.y() << ',' << x.x.v.z() << ',' << x.x.p.x() << ','
-          << x.x.p.y() << ',' << x.x.p.z();
+      out << x.x.t << ',' << (x.initialised ? 1 : 0) << ',' << x.x.q.w() << ',' << x.x.q.x() << ','
+          << x.x.q.y() << ',' << x.x.q.z() << ',' << x.x.v.x() << ',' << x.x.v.y() << ','
+          << x.x.v.z() << ',' << x.x.p.x() << ',' << x.x.p.y() << ',' << x.x.p.z();
       for (int i = 6; i < 9; ++i) {
         out << ',' << (x.has_covariance ? std::sqrt(x.P.P(i, i)) : std::nan(""));
       }
@@ -114,6 +119,11 @@ int run(const Options& o) {
       out << "\n";
     }
     // The MPC's tick: it asks for the state at its own clock, mpc_latency after this sample.
+    if (!x.initialised) {
+      next_mpc = row.t;  // nothing to ask for while the still window is searched
+      continue;
+    }
+    if (!start_t) start_t = row.t;
     if (row.t >= next_mpc) {
       next_mpc += mpc_period;
       const double t_query = row.t + o.mpc_latency;
@@ -143,6 +153,11 @@ int run(const Options& o) {
             << "update: mean " << mean << " us, median " << sorted[sorted.size() / 2] << " us, p99 "
             << sorted[sorted.size() * 99 / 100] << " us, max " << sorted.back()
             << " us (wall time on this machine; bench_state_estimator measures it properly)\n";
+  if (!start_t) {
+    std::cout << "no still window found: the filter never started (--init 0 starts it at once)\n";
+    return 2;
+  }
+  std::cout << "filter started at t = " << *start_t << " s\n";
   std::cout << "MPC at " << o.mpc_rate << " Hz, clock " << o.mpc_latency * 1e3
             << " ms after the IMU: " << queries << " queries, mean age " << age_sum / queries * 1e3
             << " ms";
@@ -173,6 +188,9 @@ int main(int argc, char** argv) {
   app.add_option("--contact", o.contact, "Contact detector, or truth for the log's flags")
       ->capture_default_str();
   app.add_option("--settle", o.settle, "Touchdown settling [s]")->capture_default_str();
+  app.add_option("--init", o.init_duration,
+                 "Stationary initialisation window [s] on a log without truth (0: off; default: "
+                 "the settings' 2 s)");
   app.add_option("--mpc-rate", o.mpc_rate, "MPC query rate [Hz]")->capture_default_str();
   app.add_option("--mpc-latency", o.mpc_latency, "MPC clock ahead of the newest IMU sample [s]")
       ->capture_default_str();
