@@ -48,7 +48,8 @@ Progress stderrProgress() {
 
 StudyCommand::StudyCommand(CLI::App& app)
     : command_(app.add_subcommand("study", "Monte Carlo studies behind the chapters' figures")),
-      contact_(*command_) {
+      contact_(*command_),
+      faults_(*command_) {
   command_->require_subcommand(1);
   consistency_ = command_->add_subcommand(
       "consistency", "ANEES of every filter over runs of the default trot (section 57.5)");
@@ -69,6 +70,7 @@ StudyCommand::StudyCommand(CLI::App& app)
 
 int StudyCommand::run(std::ostream& out) const {
   if (contact_.parsed()) return contact_.run(out);
+  if (faults_.parsed()) return faults_.run(out);
   try {
     if (*consistency_) return consistency(out);
     if (*convergence_) return convergence(out);

@@ -8,6 +8,8 @@
 //                              and consistency, the bias-variance trade-off (exercise 57.4.2)
 //   legkit study contact       the contact detectors against the physics' true contact (57.6)
 //   legkit study slip          slip detection and reactions on ice (57.7), study_contact.hpp
+//   legkit study faults        injected sensor faults, the monitors and their answers (57.9),
+//                              study_faults.hpp
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -15,6 +17,7 @@
 #include <string>
 
 #include "study_contact.hpp"
+#include "study_faults.hpp"
 
 namespace legkit::tools {
 
@@ -44,6 +47,7 @@ class StudyCommand {
   std::string out_dir_;
   bool plots_ = true;
   StudyContact contact_;  // `study contact` and `study slip`
+  StudyFaults faults_;    // `study faults` (57.9)
 };
 
 }  // namespace legkit::tools
