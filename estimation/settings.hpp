@@ -15,6 +15,7 @@
 #include "estimation/engineering/stationary_init.hpp"
 #include "estimation/estimator.hpp"
 #include "estimation/health.hpp"
+#include "estimation/invariant/invariant_ekf.hpp"
 #include "estimation/log_frontend.hpp"
 #include "model/imu_extrinsic.hpp"
 #include "model/imu_noise.hpp"
@@ -30,6 +31,50 @@ struct RobotSettings {
       joints;  // model joints in joint<k>_ column order (empty: hinges in order)
 };
 
+// The prior at reset of every filter with that state (standard deviations, per axis).
+struct PriorSettings {
+  double sigma_attitude = 0.01;    // [rad] ESKF, InEKF, TSIF (the linear KF: linear_kf.sigma_tilt)
+  double sigma_velocity = 0.05;    // [m/s]
+  double sigma_position = 0.01;    // [m]
+  double sigma_gyro_bias = 0.002;  // [rad/s] (also the linear KF's attitude filter)
+  double sigma_accel_bias = 0.02;  // [m/s^2] ESKF, InEKF, TSIF
+  double foot_init_sigma = 1.0;    // [m] a foot state before its first stance measurement
+};
+
+// The feet's random walks in the ESKF, the InEKF and the TSIF (the linear KF's swing density is
+// its own: linear_kf.foot_swing_density).
+struct FootSettings {
+  double stance_density = 1e-3;  // [m/sqrt(s)] a stance foot's slip allowance
+  double swing_density = 2.0;    // [m/sqrt(s)] a swing foot (the soft-contact end of p_c = 0)
+};
+
+// What only the linear KF (section 57.4) has.
+struct LinearKfSettings {
+  double foot_swing_density = 10.0;        // [m/sqrt(s)]
+  bool use_leg_velocity = true;            // the leg-odometry velocity measurement
+  double foot_velocity_sigma = 0.005;      // [m/s] noise of r_dot per axis
+  bool model_attitude_error = true;        // the attitude filter's error in Q and R
+  double attitude_correlation_time = 1.0;  // [s]
+  double accel_compensation_time = 0.05;   // [s] (0: plain accelerometer tilt)
+  double k_P = 1.0;                        // [rad/s] tilt-correction bandwidth
+  double k_I = 0.05;                       // [1/s^2] gyro-bias gain
+  double accel_tolerance = 0.5;            // [-] trust reaches 0 at | |a|/g - 1 | = this
+  double sigma_tilt = 0.005;               // [rad] attitude filter prior, roll and pitch
+  double sigma_yaw = 0.005;                // [rad] attitude filter prior, yaw
+};
+
+// What only the invariant EKF (section 57.5) has.
+struct InvariantEkfSettings {
+  invariant::inekf::Discretisation discretisation = invariant::inekf::Discretisation::kExact;
+  invariant::inekf::TouchdownAttitude touchdown_attitude =
+      invariant::inekf::TouchdownAttitude::kCorrected;
+};
+
+// What only the TSIF has.
+struct TsifSettings {
+  int iterations = 1;  // Gauss-Newton iterations per step (1 or 2)
+};
+
 struct Settings {
   std::string source;  // the file the settings came from, "" for the defaults
 
@@ -40,22 +85,35 @@ struct Settings {
   FrontendNoise frontend;
   RobotSettings robot;
   std::vector<std::string> estimators;  // which run, in this order (empty: every one)
-  PipelineOptions pipeline;             // contact source, slip reaction, settling, rolling foot
+  // Contact source, slip reaction, settling, rolling foot. The defaults are a robot's (and
+  // `legkit run`'s on physics and recorded logs): the fallback detector chain, slips inflated,
+  // 80 ms touchdown settling; the library's PipelineOptions{} keeps the log's flags.
+  PipelineOptions pipeline;
   contact::SchmittParams schmitt = contact::go2SchmittParams();
   engineering::GatingParams gating;
   engineering::StationaryInitParams initialisation;
   engineering::MonitorParams monitors;
-  // (the config owner adds: priors, foot densities, per-filter settings)
+  PriorSettings priors;
+  FootSettings feet;
+  LinearKfSettings linear_kf;
+  InvariantEkfSettings invariant_ekf;
+  TsifSettings tsif;
 };
 
-// The kit's defaults: what every estimator and `legkit run` use without a file.
+// The kit's defaults: every estimator's own defaults (makeEstimator(name, defaultSettings()) is
+// makeEstimator(name)), and the pipeline of `legkit run` on a physics scenario or a recorded log.
 Settings defaultSettings();
-// Reads a settings file. Keys left out keep their defaults. Throws io::ConfigError naming the
+// Reads a settings file. Keys left out keep their defaults; a relative robot.model is taken
+// relative to the file's folder. Throws io::ConfigError naming the
 // file, the line and the key for an unknown key, a wrong type or an out-of-range value.
 Settings loadSettings(const std::string& path);
+// The same for the YAML document in `text`, called `name` in messages (and in Settings::source).
+Settings settingsFromYaml(const std::string& text, const std::string& name);
 // The settings as YAML with a comment on every key; loadSettings() of it gives them back.
 std::string settingsYaml(const Settings& settings);
-// An estimator of estimatorNames() with its parameters from the settings.
+// An estimator of estimatorNames() with its parameters from the settings: the IMU densities, the
+// limits, the priors, the feet and its own section. Throws std::invalid_argument for an unknown
+// name (listing the known ones).
 std::unique_ptr<Estimator> makeEstimator(const std::string& name, const Settings& settings);
 
 }  // namespace legkit

@@ -1,1 +1,16 @@
 # Settings files. Owner: config.
+legkit_add_test(test_settings SOURCES settings_test.cpp
+                LIBS legkit_settings legkit_yaml legkit_eval legkit_sim LABELS "57.9;settings")
+target_compile_definitions(test_settings PRIVATE LEGKIT_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+
+# `legkit config` and `legkit run --config` end to end (they run the built program).
+legkit_add_test(test_config_cli SOURCES config_cli_test.cpp LABELS "cli;settings")
+target_compile_definitions(test_config_cli PRIVATE LEGKIT_EXE="$<TARGET_FILE:legkit>"
+                                                   LEGKIT_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+target_include_directories(test_config_cli PRIVATE ${PROJECT_SOURCE_DIR})
+add_dependencies(test_config_cli legkit)
+
+# tools/legkit/run_command.cpp reads settings files: the run-table test, which compiles it, links
+# them too (deferred: tests/tools/ defines that test after this file is read).
+cmake_language(DEFER DIRECTORY ${PROJECT_SOURCE_DIR}/tests CALL
+               target_link_libraries test_tools_run_table PRIVATE legkit_settings)

@@ -9,6 +9,7 @@
 
 #include "allan_command.hpp"
 #include "cassie_command.hpp"
+#include "config_command.hpp"
 #include "lie_accuracy.hpp"
 #include "run_command.hpp"
 #include "sim_command.hpp"
@@ -45,6 +46,7 @@ int main(int argc, char** argv) {
   legkit::tools::StudyCommand study(app);
   legkit::tools::CassieCommand cassie(app);
   legkit::tools::AllanCommand allan(app);
+  legkit::tools::ConfigCommand config(app);
 
   try {
     app.parse(argc, argv);
@@ -61,6 +63,7 @@ int main(int argc, char** argv) {
     if (study.parsed()) return study.run(std::cout);
     if (cassie.parsed()) return cassie.run(std::cout);
     if (allan.parsed()) return allan.run(std::cout);
+    if (config.parsed()) return config.run(std::cout);
   } catch (const UsageError& e) {  // e.g. an unknown leg or a malformed --dropout
     std::cerr << "legkit: " << e.what() << "\n";
     return kExitUsage;

@@ -18,6 +18,7 @@
 #include "estimation/contact_pipeline.hpp"
 #include "estimation/estimators.hpp"
 #include "estimation/log_frontend.hpp"
+#include "estimation/settings.hpp"
 #include "estimation/slip/slip_guard.hpp"
 #include "eval/consistency.hpp"
 #include "eval/contact_training.hpp"
@@ -352,15 +353,21 @@ RunCommand::RunCommand(CLI::App& app)
                "What the filters do with a foot found slipping (default: " +
                    std::string(kDefaultSlip) + "; 'none' on the analytic scenarios)")
       ->check(CLI::IsMember({"none", "inflate", "drop", "imu-only"}));
-  c.add_flag("!--no-rolling-foot", rolling_foot_,
-             "Stance feet at the foot sphere's centre, not at the ground point it touched (the "
-             "analytic scenarios' feet do not roll: always off there)");
+  rolling_option_ =
+      c.add_flag("!--no-rolling-foot", rolling_foot_,
+                 "Stance feet at the foot sphere's centre, not at the ground point it touched (the "
+                 "analytic scenarios' feet do not roll: always off there)");
   settle_option_ =
       c.add_option("--settle", settle_,
                    "Touchdown settling time [s]: a foot just put down is left out of the filters "
                    "for this long (default " +
                        number(kDefaultSettle) + "; 0 on the analytic scenarios; 0: off)")
           ->check(CLI::NonNegativeNumber);
+  // Not CLI::ExistingFile: a file that cannot be read is an input error (exit 2).
+  c.add_option("--config", config_,
+               "Settings file (`legkit config --print` writes the defaults): the estimators that "
+               "run and their noise, priors and limits, the front-end noise, the contact pipeline "
+               "and the detector's thresholds. Options given on this command line override it");
   c.add_flag("--json", json_, "Print the summary as JSON (one object per estimator)");
   c.add_flag("!--no-plots", plots_, "Do not draw the PNG plots");
 }
@@ -372,6 +379,15 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   // ANEES measures the filters and not a mismatched sensor model; for a recorded log, the
   // front end's defaults (chapters/57.3).
   FrontendNoise noise;
+  // The settings file, when given: it replaces the defaults below, the command line's options
+  // override it.
+  const std::optional<Settings> settings =
+      config_.empty() ? std::nullopt : std::optional<Settings>(loadSettings(config_));
+  if (settings && (!settings->imu_extrinsic.isIdentity() || !settings->robot.model.empty())) {
+    throw InputError(config_ +
+                     ": legkit run does not use imu.extrinsic or robot.model yet; leave them at "
+                     "their defaults");
+  }
   // A physics run whose robot fell (or whose simulation diverged): when and why (its log ends
   // there).
   std::string fall;
@@ -414,17 +430,28 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   const bool analytic = log_.empty() && !isPhysicsScenario(scenario_);
   const bool undetectable = !log.layout.joints && !log.layout.force && log.layout.contact;
   PipelineOptions pipeline_options;
-  pipeline_options.contact = !contact_.empty()          ? contact_
-                             : analytic || undetectable ? "truth"
-                                                        : kDefaultContact;
-  pipeline_options.slip = *slip::slipReactionByName(!slip_.empty() ? slip_
-                                                    : analytic     ? "none"
-                                                                   : kDefaultSlip);
-  pipeline_options.rolling_foot = rolling_foot_ && !analytic;
-  pipeline_options.settle_time = settle_option_->count() > 0 ? settle_
-                                 : analytic                  ? 0.0
-                                                             : kDefaultSettle;
+  if (settings) {
+    noise = settings->frontend;
+    pipeline_options = settings->pipeline;
+    if (!contact_.empty()) pipeline_options.contact = contact_;
+    if (!slip_.empty()) pipeline_options.slip = *slip::slipReactionByName(slip_);
+    if (rolling_option_->count() > 0) pipeline_options.rolling_foot = rolling_foot_;
+    if (settle_option_->count() > 0) pipeline_options.settle_time = settle_;
+    pipeline_options.rolling_foot = pipeline_options.rolling_foot && !analytic;
+  } else {
+    pipeline_options.contact = !contact_.empty()          ? contact_
+                               : analytic || undetectable ? "truth"
+                                                          : kDefaultContact;
+    pipeline_options.slip = *slip::slipReactionByName(!slip_.empty() ? slip_
+                                                      : analytic     ? "none"
+                                                                     : kDefaultSlip);
+    pipeline_options.rolling_foot = rolling_foot_ && !analytic;
+    pipeline_options.settle_time = settle_option_->count() > 0 ? settle_
+                                   : analytic                  ? 0.0
+                                                               : kDefaultSettle;
+  }
   contact::DetectorContext context;
+  if (settings) context.schmitt = settings->schmitt;
   if (log_.empty() && !analytic) {
     context.gait = eval::plannedGait(sim::physicsScenarioByName(scenario_));
   }
@@ -460,8 +487,11 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
 
   const EstimateSample x0 = eval::initialState(log);
   std::vector<RunRow> rows;
-  for (const std::string& name : estimatorNames()) {
-    const std::unique_ptr<Estimator> e = makeEstimator(name);
+  const Settings estimator_settings = settings ? *settings : defaultSettings();
+  const std::vector<std::string> names =
+      estimator_settings.estimators.empty() ? estimatorNames() : estimator_settings.estimators;
+  for (const std::string& name : names) {
+    const std::unique_ptr<Estimator> e = makeEstimator(name, estimator_settings);
     RunRow r{eval::runOnLog(*e, log, pipeline, x0), std::nullopt, std::nullopt};
     if (log.layout.ground_truth && !r.run.failed())
       r.metrics = eval::compare(log, r.run.trajectory);
@@ -480,6 +510,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
       {"legkit_version", LEGKIT_VERSION},
       {"command", command_line},
       {"source", source},
+      {"config", settings ? nlohmann::json(config_) : nlohmann::json(nullptr)},
       {"contacts",
        {{"source", pipeline.source()},
         {"slip", slip::slipReactionName(pipeline_options.slip)},
@@ -502,6 +533,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
     out << toJson(rows).dump(2) << '\n';
   } else {
     out << "legkit run: " << source << " (" << log.rows.size() << " samples)\n";
+    if (settings) out << "settings: " << config_ << "\n";
     out << "contacts: " << contacts << "\n";
     if (training_s) {
       out << "logistic contact model trained on simulated physics runs (seeds " << seed_ + 1000

@@ -9,6 +9,7 @@
 //   legkit run --settle 0                no touchdown settling
 //   legkit run --scenario trot          the analytic trot on its true contact flags
 //   legkit run --log my_robot.csv --json
+//   legkit run --config my_robot.yaml    settings file (legkit config --print); options override it
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -70,6 +71,7 @@ class RunCommand {
   CLI::App* command_;
   CLI::Option* duration_option_;
   CLI::Option* settle_option_;
+  CLI::Option* rolling_option_;
   std::string scenario_ = "physics-trot";
   double duration_ = 60.0;
   unsigned seed_ = 1;
@@ -81,6 +83,7 @@ class RunCommand {
   std::string slip_;              // empty: kDefaultSlip, or "none" on an analytic scenario
   bool rolling_foot_ = true;
   double settle_ = kDefaultSettle;  // [s]; the analytic scenarios' default is 0
+  std::string config_;  // settings file (estimation/settings.hpp); empty: the defaults above
   bool json_ = false;
   bool plots_ = true;
 };

@@ -1,0 +1,178 @@
+#include "io/yaml_reader.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace legkit::io {
+namespace {
+
+std::string list(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+std::string formatNumber(double x) {
+  char buffer[32];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, x);
+  return ec == std::errc() ? std::string(buffer, end) : std::to_string(x);
+}
+
+}  // namespace
+
+YamlValue::YamlValue(std::shared_ptr<const YAML::Node> node, std::string file, std::string path)
+    : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)) {}
+
+YamlValue YamlValue::parse(const std::string& text, const std::string& file) {
+  try {
+    return YamlValue(std::make_shared<const YAML::Node>(YAML::Load(text)), file, "");
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(file + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax: " + e.msg);
+  }
+}
+
+YamlValue YamlValue::parseFile(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  if (in) text << in.rdbuf();
+  if (!in || in.bad()) throw ConfigError(path + ": cannot be read");
+  return parse(text.str(), path);
+}
+
+YamlValue YamlValue::child(const YAML::Node& node, const std::string& path) const {
+  return YamlValue(std::make_shared<const YAML::Node>(node), file_, path);
+}
+
+int YamlValue::line() const {
+  const YAML::Mark mark = node_->Mark();
+  return mark.is_null() ? 0 : mark.line + 1;
+}
+
+bool YamlValue::isNull() const {
+  return !node_->IsDefined() || node_->IsNull();
+}
+bool YamlValue::isMap() const {
+  return node_->IsMap();
+}
+bool YamlValue::isList() const {
+  return node_->IsSequence();
+}
+
+void YamlValue::fail(const std::string& what) const {
+  std::string where = file_ + ":" + std::to_string(line()) + ": ";
+  if (!path_.empty()) where += path_ + ": ";
+  throw ConfigError(where + what);
+}
+
+std::vector<std::string> YamlValue::keys() const {
+  if (!isMap()) fail("expected a map of keys");
+  std::vector<std::string> out;
+  for (const auto& entry : *node_) {
+    const YAML::Node& key = entry.first;
+    if (!key.IsScalar()) {
+      child(key, path_).fail("expected a plain key, not a list or a map");
+    }
+    const std::string name = key.Scalar();
+    if (std::find(out.begin(), out.end(), name) != out.end()) {
+      child(key, path_.empty() ? name : path_ + "." + name).fail("key given twice");
+    }
+    out.push_back(name);
+  }
+  return out;
+}
+
+std::optional<YamlValue> YamlValue::find(const std::string& key) const {
+  if (!isMap()) fail("expected a map of keys");
+  for (const auto& entry : *node_) {
+    if (entry.first.IsScalar() && entry.first.Scalar() == key) {
+      return child(entry.second, path_.empty() ? key : path_ + "." + key);
+    }
+  }
+  return std::nullopt;
+}
+
+void YamlValue::checkKeys(const std::vector<std::string>& known) const {
+  keys();  // a map, without repeated keys
+  for (const auto& entry : *node_) {
+    const std::string key = entry.first.Scalar();
+    if (std::find(known.begin(), known.end(), key) == known.end()) {
+      child(entry.first, path_.empty() ? key : path_ + "." + key)
+          .fail("unknown key (known here: " + list(known) + ")");
+    }
+  }
+}
+
+std::vector<YamlValue> YamlValue::elements(int size) const {
+  if (!isList()) {
+    fail(size >= 0 ? "expected a list of " + std::to_string(size) + " values" : "expected a list");
+  }
+  if (size >= 0 && static_cast<int>(node_->size()) != size) {
+    fail("expected a list of " + std::to_string(size) + " values, got " +
+         std::to_string(node_->size()));
+  }
+  std::vector<YamlValue> out;
+  int i = 0;
+  for (const auto& element : *node_) {
+    out.push_back(child(element, path_ + "[" + std::to_string(i++) + "]"));
+  }
+  return out;
+}
+
+std::string YamlValue::scalar(const char* expected) const {
+  if (!node_->IsScalar()) fail(std::string("expected ") + expected);
+  return node_->Scalar();
+}
+
+double YamlValue::number(double lo, double hi) const {
+  const std::string range = "[" + formatNumber(lo) + ", " + formatNumber(hi) + "]";
+  const std::string expected = "a number in " + range;
+  const std::string s = scalar(expected.c_str());
+  double x = 0.0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), x);
+  if (node_->Tag() == "!" || ec != std::errc() || end != s.data() + s.size()) {
+    fail("expected " + expected + ", got '" + s + "'");
+  }
+  if (!std::isfinite(x)) fail("expected a finite number in " + range + ", got " + s);
+  if (x < lo || x > hi) fail("expected a number in " + range + ", got " + s);
+  return x;
+}
+
+int YamlValue::integer(int lo, int hi) const {
+  const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  const std::string s = scalar(("an integer in " + range).c_str());
+  int x = 0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), x);
+  if (node_->Tag() == "!" || ec != std::errc() || end != s.data() + s.size() || x < lo || x > hi) {
+    fail("expected an integer in " + range + ", got '" + s + "'");
+  }
+  return x;
+}
+
+bool YamlValue::boolean() const {
+  const std::string s = scalar("true or false");
+  if (node_->Tag() != "!") {
+    if (s == "true" || s == "True" || s == "TRUE") return true;
+    if (s == "false" || s == "False" || s == "FALSE") return false;
+  }
+  fail("expected true or false, got '" + s + "'");
+}
+
+std::string YamlValue::text() const {
+  if (isNull()) return "";
+  return scalar("text");
+}
+
+std::string YamlValue::oneOf(const std::vector<std::string>& allowed) const {
+  const std::string s = text();
+  if (std::find(allowed.begin(), allowed.end(), s) == allowed.end()) {
+    fail("expected one of " + list(allowed) + ", got '" + s + "'");
+  }
+  return s;
+}
+
+}  // namespace legkit::io

@@ -1,0 +1,82 @@
+// `legkit config` and `legkit run --config` as a user meets them.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "scratch_folder.hpp"
+#include "spawn.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Catch::Matchers::Contains;
+using legkit::test::slurp;
+
+struct Result {
+  int status = -1;
+  std::string output;  // standard output and error together
+};
+
+Result runLegkit(const fs::path& dir, std::vector<std::string> arguments) {
+  const fs::path output = dir / "cli-output.txt";
+  arguments.insert(arguments.begin(), LEGKIT_EXE);
+  Result r;
+  r.status = legkit::test::spawnAndWait(arguments, dir.string(), output.string());
+  r.output = slurp(output);
+  return r;
+}
+
+void write(const fs::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+}  // namespace
+
+TEST_CASE("legkit config: --print is config/legkit.yaml, --check names the line", "[cli]") {
+  const legkit::test::ScratchFolder dir("config_cli");
+  Result r = runLegkit(dir.path, {"config", "--print"});
+  CHECK(r.status == 0);
+  CHECK(r.output == slurp(LEGKIT_SOURCE_DIR "/config/legkit.yaml"));
+
+  r = runLegkit(dir.path, {"config", "--check", LEGKIT_SOURCE_DIR "/config/legkit.yaml"});
+  CHECK(r.status == 0);
+  CHECK(r.output == "ok\n");
+
+  write(dir.path / "bad.yaml", "imu:\n  gyro_noise_density: 0.004\n  accel_noise_density: -1\n");
+  r = runLegkit(dir.path, {"config", "--check", "bad.yaml"});
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output, Contains("bad.yaml:3: imu.accel_noise_density: expected a number"));
+  // The run refuses the same file before it simulates anything.
+  r = runLegkit(dir.path, {"run", "--scenario", "trot", "--duration", "1", "--no-plots", "--config",
+                           "bad.yaml"});
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output, Contains("bad.yaml:3: imu.accel_noise_density"));
+  CHECK_FALSE(fs::exists(dir.path / "legkit-out"));
+
+  CHECK(runLegkit(dir.path, {"config"}).status == 1);  // --print or --check
+}
+
+TEST_CASE("legkit run --config: the file picks the estimators, the command line overrides",
+          "[cli]") {
+  const legkit::test::ScratchFolder dir("config_run");
+  write(dir.path / "two.yaml",
+        "estimators: [invariant-ekf, linear-kf]\n"
+        "contact:\n  detector: truth\n  slip_reaction: none\n  settle_time: 0\n");
+  Result r = runLegkit(dir.path, {"run", "--scenario", "trot", "--duration", "2", "--no-plots",
+                                  "--config", "two.yaml", "--slip", "drop", "--out", "out"});
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Contains("settings: two.yaml"));
+  CHECK_THAT(r.output, Contains("slip handling: drop"));  // the command line wins
+  const std::string summary = slurp(dir.path / "out" / "summary.json");
+  CHECK_THAT(summary, Contains("\"config\": \"two.yaml\""));
+  CHECK_THAT(summary, Contains("\"estimator\": \"invariant-ekf\""));
+  CHECK_THAT(summary, Contains("\"estimator\": \"linear-kf\""));
+  CHECK_FALSE(fs::exists(dir.path / "out" / "estimate_eskf.csv"));
+  CHECK_FALSE(fs::exists(dir.path / "out" / "estimate_tsif.csv"));
+  CHECK(fs::exists(dir.path / "out" / "estimate_linear-kf.csv"));
+  // The invariant EKF comes first, as the file lists it.
+  CHECK(summary.find("\"invariant-ekf\"") < summary.find("\"linear-kf\""));
+}

@@ -1,0 +1,244 @@
+// The settings file (estimation/settings.hpp): the defaults are the estimators' own, a file reads
+// back what settingsYaml() wrote, every kind of bad value is refused naming its line and key, and
+// a key reaches the filter it configures.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "estimation/estimators.hpp"
+#include "estimation/log_frontend.hpp"
+#include "estimation/settings.hpp"
+#include "eval/runner.hpp"
+#include "io/yaml_reader.hpp"
+#include "sim/simulator.hpp"
+
+namespace legkit {
+namespace {
+
+using Catch::Matchers::Contains;
+
+// The error settingsFromYaml() throws for `text` (named t.yaml), or "" when it reads.
+std::string errorOf(const std::string& text) {
+  try {
+    settingsFromYaml(text, "t.yaml");
+  } catch (const io::ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A short analytic trot, its inputs on the log's true flags and its initial state.
+struct Trot {
+  io::Log log;
+  std::vector<StepInput> inputs;
+  EstimateSample x0;
+};
+
+const Trot& trot() {
+  static const Trot t = [] {
+    sim::SimOptions options;
+    options.duration = 1.0;
+    Trot r;
+    r.log = sim::simulate(options).log;
+    r.inputs = LogFrontend(r.log.layout, model::QuadrupedKinematics()).inputs(r.log);
+    r.x0 = eval::initialState(r.log);
+    return r;
+  }();
+  return t;
+}
+
+// Runs `e` over the trot; its estimate and (for a filter) covariance at the end.
+std::pair<EstimateSample, std::optional<BaseCovariance>> runTrot(Estimator& e) {
+  e.reset(trot().x0);
+  for (const StepInput& in : trot().inputs) e.step(in);
+  return {e.estimate(), e.covariance()};
+}
+
+}  // namespace
+
+TEST_CASE("settings: the defaults are every estimator's own", "[settings]") {
+  for (const std::string& name : estimatorNames()) {
+    CAPTURE(name);
+    const auto plain = makeEstimator(name);
+    const auto configured = makeEstimator(name, defaultSettings());
+    REQUIRE(configured->name() == name);
+    const auto [x_plain, P_plain] = runTrot(*plain);
+    const auto [x_conf, P_conf] = runTrot(*configured);
+    CHECK(x_conf.p == x_plain.p);  // bit for bit: the defaults do not move `legkit run`
+    CHECK(x_conf.v == x_plain.v);
+    CHECK(x_conf.q.coeffs() == x_plain.q.coeffs());
+    REQUIRE(P_conf.has_value() == P_plain.has_value());
+    if (P_conf) CHECK(P_conf->P == P_plain->P);
+  }
+  CHECK_THROWS_WITH(makeEstimator("no-such", defaultSettings()), Contains("eskf"));
+}
+
+TEST_CASE("settings: a key reaches the filter it configures", "[settings]") {
+  Settings loud = defaultSettings();
+  loud.imu.gyro_noise_density = 1.0;  // 250 times the Go2's [rad/s/sqrt(Hz)]
+  const auto quiet_P = *runTrot(*makeEstimator("eskf", defaultSettings())).second;
+  const auto loud_P = *runTrot(*makeEstimator("eskf", loud)).second;
+  // After 1 s the attitude variance has grown with the gyro noise.
+  const double quiet = quiet_P.P.topLeftCorner<3, 3>().trace();
+  const double loud_trace = loud_P.P.topLeftCorner<3, 3>().trace();
+  INFO("ESKF attitude variance trace after 1 s: " << quiet << " (Go2 gyro), " << loud_trace
+                                                  << " (1 rad/s/sqrt(Hz))");
+  CHECK(loud_trace > 2.0 * quiet);
+
+  // The priors reach every filter: a confident velocity prior is a smaller velocity variance at
+  // reset.
+  Settings confident = defaultSettings();
+  confident.priors.sigma_velocity = 1e-4;
+  for (const char* name : {"linear-kf", "eskf", "invariant-ekf", "tsif"}) {
+    CAPTURE(name);
+    const auto plain = makeEstimator(name, defaultSettings());
+    const auto sure = makeEstimator(name, confident);
+    plain->reset(trot().x0);
+    sure->reset(trot().x0);
+    CHECK(sure->covariance()->P(4, 4) < 0.5 * plain->covariance()->P(4, 4));
+  }
+}
+
+TEST_CASE("settings: settingsYaml reads back to the same settings", "[settings]") {
+  const Settings defaults = defaultSettings();
+  const std::string text = settingsYaml(defaults);
+  CHECK(settingsYaml(settingsFromYaml(text, "defaults.yaml")) == text);
+  CHECK_THAT(text, Contains("gyro_noise_density: 0.004"));
+  CHECK_THAT(text, Contains("[rad/s/sqrt(Hz)]"));
+
+  Settings s = defaults;  // a value off its default in every section
+  s.imu.accel_bias_random_walk = 1.25e-3;
+  s.imu_extrinsic.q_BI =
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()));
+  s.imu_extrinsic.p_BI = {0.1, -0.02, 0.05};
+  s.limits.max_dt = 0.05;
+  s.priors.foot_init_sigma = 0.5;
+  s.feet.swing_density = 3.0;
+  s.linear_kf.use_leg_velocity = false;
+  s.linear_kf.foot_velocity_sigma = 0.05;
+  s.invariant_ekf.discretisation = invariant::inekf::Discretisation::kFirstOrder;
+  s.tsif.iterations = 2;
+  s.frontend.foot_point_sigma = 0.01;
+  s.robot = {"robot.xml", "trunk", {"FL_foot", "FR \"foot\""}, {"j1", "j2"}};
+  s.estimators = {"tsif", "eskf"};
+  s.pipeline.contact = "schmitt";
+  s.pipeline.slip = slip::SlipReaction::kDrop;
+  s.pipeline.soft.min_probability = 0.2;
+  s.schmitt.f_high = 40.0;
+  s.gating.enabled = true;
+  s.initialisation.duration = 3.0;
+  s.monitors.velocity_sigma_max = 2.0;
+  const std::string changed = settingsYaml(s);
+  const Settings back = settingsFromYaml(changed, "changed.yaml");
+  CHECK(settingsYaml(back) == changed);
+  CHECK(changed != text);
+  CHECK(back.imu_extrinsic.q_BI.coeffs() == s.imu_extrinsic.q_BI.coeffs());
+  CHECK(back.imu_extrinsic.p_BI == s.imu_extrinsic.p_BI);
+  CHECK(back.robot.feet == s.robot.feet);
+  CHECK(back.estimators == s.estimators);
+  CHECK(back.invariant_ekf.discretisation == invariant::inekf::Discretisation::kFirstOrder);
+  CHECK(back.pipeline.slip == slip::SlipReaction::kDrop);
+  CHECK(back.linear_kf.use_leg_velocity == false);
+  CHECK(back.tsif.iterations == 2);
+  CHECK(back.source == "changed.yaml");
+}
+
+TEST_CASE("settings: config/legkit.yaml is what `legkit config --print` writes", "[settings]") {
+  std::ifstream in(LEGKIT_SOURCE_DIR "/config/legkit.yaml");
+  REQUIRE(in);
+  std::ostringstream file;
+  file << in.rdbuf();
+  CHECK(file.str() == settingsYaml(defaultSettings()));
+}
+
+TEST_CASE("settings: keys left out keep their defaults; other spellings", "[settings]") {
+  const Settings s = settingsFromYaml(
+      "imu:\n  gyro_noise_density: 0.01\n  extrinsic:\n    rotation_rpy_deg: [0, 0, 90]\n"
+      "contact:\n  schmitt:\n",
+      "t.yaml");
+  CHECK(s.imu.gyro_noise_density == 0.01);
+  CHECK(s.imu.accel_noise_density == defaultSettings().imu.accel_noise_density);
+  CHECK(s.schmitt.f_high == defaultSettings().schmitt.f_high);
+  CHECK(s.pipeline.contact == "fallback");
+  const Eigen::Vector3d x_base = s.imu_extrinsic.q_BI * Eigen::Vector3d::UnitX();
+  CHECK(x_base.isApprox(Eigen::Vector3d::UnitY(), 1e-12));  // yaw 90 deg: IMU x is base y
+  // A quaternion rounded to 4 digits is normalised.
+  const Settings q =
+      settingsFromYaml("imu:\n  extrinsic:\n    rotation: [0.7071, 0, 0, 0.7071]\n", "t.yaml");
+  CHECK(q.imu_extrinsic.q_BI.norm() == Approx(1.0).epsilon(1e-15));
+  CHECK(settingsFromYaml("", "empty.yaml").estimators.empty());
+}
+
+TEST_CASE("settings: every bad value names its file, line and key", "[settings]") {
+  // Unknown keys, at any depth.
+  CHECK_THAT(errorOf("imu:\n  gyro_density: 0.1\n"),
+             Contains("t.yaml:2: imu.gyro_density: unknown key") && Contains("gyro_noise_density"));
+  CHECK_THAT(errorOf("limits: {}\nimus:\n  x: 1\n"), Contains("t.yaml:2: imus: unknown key"));
+  CHECK_THAT(errorOf("contact:\n  schmitt:\n    f_hi: 3\n"),
+             Contains("t.yaml:3: contact.schmitt.f_hi: unknown key"));
+  // Wrong types.
+  CHECK_THAT(errorOf("imu:\n  gyro_noise_density: abc\n"),
+             Contains("t.yaml:2: imu.gyro_noise_density: expected a number in [0, 1], got 'abc'"));
+  CHECK_THAT(errorOf("imu:\n  gyro_noise_density: \"0.004\"\n"),
+             Contains("t.yaml:2: imu.gyro_noise_density: expected a number"));
+  CHECK_THAT(errorOf("imu:\n  gyro_noise_density: [1, 2]\n"),
+             Contains("t.yaml:2: imu.gyro_noise_density: expected a number"));
+  CHECK_THAT(errorOf("gating:\n  enabled: yes\n"),
+             Contains("t.yaml:2: gating.enabled: expected true or false"));
+  CHECK_THAT(errorOf("tsif:\n  iterations: 1.5\n"),
+             Contains("t.yaml:2: tsif.iterations: expected an integer in [1, 2]"));
+  CHECK_THAT(errorOf("imu: 3\n"), Contains("t.yaml:1: imu: expected a map"));
+  CHECK_THAT(errorOf("- 1\n- 2\n"), Contains("t.yaml:1: expected a map of sections"));
+  // Lists of the wrong length.
+  CHECK_THAT(errorOf("imu:\n  extrinsic:\n    translation: [0, 1]\n"),
+             Contains("t.yaml:3: imu.extrinsic.translation: expected a list of 3 values, got 2"));
+  CHECK_THAT(errorOf("imu:\n  extrinsic:\n    rotation: [1, 0, 0]\n"),
+             Contains("t.yaml:3: imu.extrinsic.rotation: expected a list of 4 values"));
+  CHECK_THAT(errorOf("imu:\n  extrinsic:\n    translation: [0, x, 0]\n"),
+             Contains("t.yaml:3: imu.extrinsic.translation[1]: expected a number"));
+  // Out of range: negative, a probability outside [0, 1], NaN, inf, absurd but finite.
+  CHECK_THAT(
+      errorOf("feet:\n  stance_density: -0.001\n"),
+      Contains("t.yaml:2: feet.stance_density: expected a number in") && Contains("got -0.001"));
+  CHECK_THAT(errorOf("contact:\n  soft:\n    min_probability: 1.5\n"),
+             Contains("t.yaml:3: contact.soft.min_probability: expected a number in [0, 1]"));
+  CHECK_THAT(errorOf("imu:\n  accel_noise_density: .nan\n"),
+             Contains("t.yaml:2: imu.accel_noise_density: expected a number"));
+  CHECK_THAT(errorOf("imu:\n  accel_noise_density: nan\n"),
+             Contains("t.yaml:2: imu.accel_noise_density: expected a finite number"));
+  CHECK_THAT(errorOf("limits:\n  max_dt: .inf\n"), Contains("t.yaml:2: limits.max_dt: expected"));
+  CHECK_THAT(errorOf("imu:\n  gyro_noise_density: 1e6\n"),
+             Contains("t.yaml:2: imu.gyro_noise_density: expected a number in [0, 1], got 1e6"));
+  CHECK_THAT(errorOf("imu:\n  extrinsic:\n    rotation: [1, 0, 0.5, 0]\n"),
+             Contains("t.yaml:3: imu.extrinsic.rotation: expected a unit quaternion"));
+  // Names: estimators, detectors, enums; repeated names and keys; keys that contradict.
+  CHECK_THAT(errorOf("estimators: [eskf, kalman]\n"),
+             Contains("t.yaml:1: estimators[1]: expected one of imu-dead-reckoning") &&
+                 Contains("got 'kalman'"));
+  CHECK_THAT(errorOf("estimators: [eskf, eskf]\n"),
+             Contains("t.yaml:1: estimators[1]: 'eskf' is listed twice"));
+  CHECK_THAT(errorOf("contact:\n  rolling_foot: true\n  detector: magic\n"),
+             Contains("t.yaml:3: contact.detector: expected one of truth,") && Contains("schmitt"));
+  CHECK_THAT(
+      errorOf("invariant_ekf:\n  discretisation: euler\n"),
+      Contains("t.yaml:2: invariant_ekf.discretisation: expected one of exact, first-order"));
+  CHECK_THAT(errorOf("gating:\n  enabled: true\n  enabled: false\n"),
+             Contains("t.yaml:3: gating.enabled: key given twice"));
+  CHECK_THAT(errorOf("contact:\n  schmitt:\n    f_high: 10\n    f_low: 20\n"),
+             Contains("t.yaml:3: contact.schmitt: f_low must not exceed f_high"));
+  CHECK_THAT(
+      errorOf("imu:\n  extrinsic:\n    rotation: [1, 0, 0, 0]\n    rotation_rpy_deg: [0, 0, 0]\n"),
+      Contains("t.yaml:3: imu.extrinsic: give rotation or rotation_rpy_deg, not both"));
+  CHECK_THAT(errorOf("robot:\n  model: go2.xml\n"),
+             Contains("t.yaml:2: robot: a robot model needs its base body and its feet"));
+  // YAML syntax.
+  CHECK_THAT(errorOf("imu:\n  gyro_noise_density: [1, 2\n"), Contains("t.yaml:3: YAML syntax"));
+  CHECK_THAT(errorOf("imu:\n gyro: 1\n  x: 2\n"), Contains("t.yaml:3: YAML syntax"));
+  // A file that is not there.
+  CHECK_THROWS_WITH(loadSettings("/no/such/settings.yaml"),
+                    Contains("/no/such/settings.yaml: cannot be read"));
+}
+
+}  // namespace legkit

@@ -1,0 +1,32 @@
+#include "config_command.hpp"
+
+#include "estimation/settings.hpp"
+#include "output.hpp"
+
+namespace legkit::tools {
+
+ConfigCommand::ConfigCommand(CLI::App& app)
+    : command_(
+          app.add_subcommand("config", "The settings file: print the defaults, check a file")) {
+  CLI::App& c = *command_;
+  CLI::Option* print =
+      c.add_flag("--print", print_, "Write the default settings, every key documented, to stdout");
+  // Not CLI::ExistingFile: a file that cannot be read is an input error (exit 2) like a bad one.
+  CLI::Option* check = c.add_option("--check", check_,
+                                    "Read this settings file: print 'ok', or the error naming its "
+                                    "line and key (exit 2)");
+  print->excludes(check);
+  c.require_option(1);
+}
+
+int ConfigCommand::run(std::ostream& out) const {
+  if (print_) {
+    out << settingsYaml(defaultSettings());
+    return kExitOk;
+  }
+  loadSettings(check_);  // throws io::ConfigError: main prints it and exits 2
+  out << "ok\n";
+  return kExitOk;
+}
+
+}  // namespace legkit::tools
