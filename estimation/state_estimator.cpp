@@ -48,13 +48,14 @@ const Settings& supported(const Settings& s) {
 
 }  // namespace
 
-StateEstimator::StateEstimator(const Settings& settings, std::size_t history)
+StateEstimator::StateEstimator(const Settings& settings, std::size_t history, double imu_period)
     : layout_(managerLayout(supported(settings))),
       estimator_(makeEstimator(filterName(settings))),
       init_params_(settings.initialisation),
       init_(settings.initialisation),
       pipeline_(layout_, model::QuadrupedKinematics(), settings.frontend, settings.pipeline,
                 detectorContext(settings)),
+      monitor_(settings.monitors, io::kNumLegs, imu_period),
       ring_(history) {
   if (history == 0) throw std::invalid_argument("StateEstimator: history must be at least 1");
   reset();
@@ -64,6 +65,7 @@ void StateEstimator::reset() {
   start_.reset();
   running_ = false;
   init_.reset();
+  monitor_.reset();
   pipeline_.reset();
   row_ = io::LogRow{};
   out_ = EstimatorOutput{};
@@ -162,12 +164,19 @@ const EstimatorOutput& StateEstimator::update(const ImuSample& imu, const JointS
 
   const StepInput& piped =
       pipeline_.step(row_, dt, estimator_->estimate(), estimator_->covariance());
-  if (joints.valid) {
+  // The IMU alone when the encoders gave nothing; without the legs a monitor found stuck.
+  bool all_trusted = true;
+  for (int f = 0; f < io::kNumLegs; ++f) all_trusted = all_trusted && monitor_.legTrusted(f);
+  if (joints.valid && all_trusted) {
     estimator_->step(piped);
   } else {
-    legless_ = piped;
-    legless_.num_contacts = 0;
-    estimator_->step(legless_);
+    trimmed_ = piped;
+    if (joints.valid) {
+      monitor_.applyTo(trimmed_);
+    } else {
+      trimmed_.num_contacts = 0;
+    }
+    estimator_->step(trimmed_);
   }
   last_t_ = imu.t;
 
@@ -187,6 +196,21 @@ const EstimatorOutput& StateEstimator::update(const ImuSample& imu, const JointS
   }
   out_.initialised = true;
   out_.initialising = false;
+  engineering::MonitorInput m;
+  m.t = imu.t;
+  m.gyro = imu.gyro;
+  m.num_joints = io::kNumJoints;
+  m.q.head<io::kNumJoints>() = row_.q;
+  m.dq.head<io::kNumJoints>() = row_.dq;
+  m.has_force = forces.valid;
+  for (int f = 0; f < io::kNumLegs; ++f) {
+    m.force[f] = row_.force[f];
+    m.force_model[f] = std::numeric_limits<double>::quiet_NaN();  // no torques: no force model
+  }
+  m.v_hat = out_.x.v;
+  m.P = out_.has_covariance ? &out_.P : nullptr;
+  m.health = &out_.health;
+  out_.monitors = monitor_.update(m);
   out_.joints_valid = joints.valid;
   out_.forces_valid = forces.valid;
 

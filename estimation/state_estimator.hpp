@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "estimation/contact_pipeline.hpp"
+#include "estimation/engineering/monitors.hpp"
 #include "estimation/engineering/stationary_init.hpp"
 #include "estimation/estimator.hpp"
 #include "estimation/settings.hpp"
@@ -65,7 +66,11 @@ struct EstimatorOutput {
   Health health;             // the filter's faults and the pipeline's (kNoContact), since the start
   bool initialised = false;  // the filter is running; x is its estimate
   bool initialising = false;  // waiting for a still window (57.9); x is not an estimate yet
-  bool joints_valid = true;   // as given with this sample
+  // The sensor-health monitors of 57.9 after this sample (HealthMonitor): IMU dropout, stuck
+  // encoder (that leg's feet are left out of the next samples' input), force drift, covariance
+  // growth, P not positive definite; `uncertain` when any is active.
+  engineering::MonitorReport monitors;
+  bool joints_valid = true;  // as given with this sample
   bool forces_valid = false;
 };
 
@@ -82,14 +87,17 @@ class StateEstimator {
  public:
   // Past states kept for stateAt(): 0.5 s at 1 kHz.
   static constexpr std::size_t kDefaultHistory = 500;
+  // The IMU period the monitors measure a dropout against (a 1 kHz loop).
+  static constexpr double kDefaultImuPeriod = 0.001;
 
   // The filter: the first of settings.estimators ("invariant-ekf" when the list is empty, the
   // chapter's choice for proprioception alone). The contact source: settings.pipeline.contact,
   // a detector of contact::detectorNames() (with settings.schmitt for "schmitt"), or "truth" for
   // the robot's own flags in ForceSample::contact. The legs: the built-in quadruped (a robot
   // model in settings.robot is not supported by the manager yet). Throws std::invalid_argument
-  // for an unknown estimator or detector, a robot model, or history == 0.
-  explicit StateEstimator(const Settings& settings, std::size_t history = kDefaultHistory);
+  // for an unknown estimator or detector, a robot model, history == 0 or imu_period <= 0.
+  explicit StateEstimator(const Settings& settings, std::size_t history = kDefaultHistory,
+                          double imu_period = kDefaultImuPeriod);
 
   // One control-loop tick. Throws std::invalid_argument naming the field and the time for a
   // time not after the previous sample's, a non-finite number in a sample marked valid, or a
@@ -140,7 +148,8 @@ class StateEstimator {
   std::optional<EstimateSample> start_;  // reset(x0)
   bool running_ = false;                 // the filter has been started
   io::LogRow row_;                       // the samples as a log row
-  StepInput legless_;                    // the pipeline's input without feet (joints invalid)
+  engineering::HealthMonitor monitor_;
+  StepInput trimmed_;  // the pipeline's input less the feet of invalid joints or stuck legs
   EstimatorOutput out_;
   std::optional<double> last_t_;      // the previous sample's time (also while initialising)
   std::vector<EstimateSample> ring_;  // sized once: the last ring_.size() states

@@ -175,6 +175,31 @@ TEST_CASE("manager: stationary initialisation waits for a still window, then sta
   CHECK(feed(manager, log.rows[0]).initialised);
 }
 
+TEST_CASE("manager: the monitors report a stuck encoder and its leg leaves the filter",
+          "[57.11][physics]") {
+  const io::Log& log = trotLog();
+  StateEstimator manager(schmittSettings("eskf"));
+  manager.reset(eval::initialState(log));
+  const double t_stuck = 2.0;  // trotting by then
+  double q_frozen = 0.0;
+  double found = -1.0;
+  for (const io::LogRow& row : log.rows) {
+    Samples s = samplesOf(row);
+    if (row.t < t_stuck) q_frozen = row.q[2];  // FL knee
+    if (row.t >= t_stuck) {
+      s.joints.q[2] = q_frozen;
+      s.joints.dq[2] = 0.0;
+    }
+    const EstimatorOutput& out = manager.update(s.imu, s.joints, s.forces);
+    if (row.t < t_stuck) CHECK_FALSE(out.monitors.uncertain);
+    if (found < 0.0 && out.monitors[engineering::Alarm::kStuckEncoder]) found = row.t;
+  }
+  WARN("stuck FL knee from " << t_stuck << " s found at " << found << " s");
+  CHECK(found >= t_stuck);
+  CHECK(found <= t_stuck + 0.2);
+  CHECK(manager.output().x.p.allFinite());
+}
+
 TEST_CASE("manager: joints marked invalid give the filter the IMU alone", "[57.11][physics]") {
   const io::Log& log = trotLog();
   StateEstimator manager(schmittSettings("eskf"));
