@@ -603,6 +603,7 @@ std::unique_ptr<Estimator> makeEstimator(const std::string& name, const Settings
     p.sigma_position = s.priors.sigma_position;
     p.sigma_gyro_bias = s.priors.sigma_gyro_bias;
     p.sigma_accel_bias = s.priors.sigma_accel_bias;
+    p.gating = s.gating;
   };
   if (name == "imu-dead-reckoning") return std::make_unique<imu::DeadReckoningEstimator>(s.limits);
   if (name == "leg-odometry") {
@@ -629,6 +630,7 @@ std::unique_ptr<Estimator> makeEstimator(const std::string& name, const Settings
     p.attitude.sigma_tilt = s.linear_kf.sigma_tilt;
     p.attitude.sigma_yaw = s.linear_kf.sigma_yaw;
     p.attitude.sigma_gyro_bias = s.priors.sigma_gyro_bias;
+    p.gating = s.gating;
     return std::make_unique<linear_kf::LinearKf>(p);
   }
   if (name == "eskf") {
