@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "estimation/contact_pipeline.hpp"
 #include "estimation/imu_extrinsic_frames.hpp"
 #include "estimation/invariant/eskf.hpp"
 #include "estimation/invariant/invariant_ekf.hpp"
@@ -208,6 +209,17 @@ TEST_CASE("extrinsic: an IMU 0.2 m and 20 deg off the base, with and without the
     CHECK(x.m.velocity_rmse == Approx(std::hypot(b.m.velocity_rmse, lever)).epsilon(0.05));
     CHECK(std::abs(x.anees - b.anees) < 2.0);
   }
+  // The contact pipeline on the log's flags carries the extrinsic the same way (its rolling foot
+  // is left out with a mount, and the analytic trot's feet do not roll).
+  invariant::Eskf filter;
+  ContactPipeline pipeline(
+      LogFrontend(offset_log.layout, model::QuadrupedKinematics(), FrontendNoise{}, mount()),
+      PipelineOptions{});
+  const eval::RunResult piped =
+      eval::runOnLog(filter, offset_log, pipeline, eval::initialState(offset_log));
+  REQUIRE_FALSE(piped.failed());
+  CHECK(eval::compare(offset_log, piped.trajectory).position_rmse ==
+        Approx(eskf_ext.m.position_rmse).epsilon(1e-9));
   // Without it the IMU's pose is scored as the base's: 20 deg of mount, 0.2 m of lever arm.
   for (const auto& [b, n] : {std::pair{eskf_base, eskf_none}, {inekf_base, inekf_none}}) {
     CHECK(n.m.tilt_rmse_deg > 5.0);
