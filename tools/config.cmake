@@ -1,3 +1,3 @@
 # legkit config, legkit run --config. Owner: config.
 target_sources(legkit PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/legkit/config_command.cpp)
-target_link_libraries(legkit PRIVATE legkit_settings)
+target_link_libraries(legkit PRIVATE legkit_settings legkit_mujoco_kinematics)

@@ -27,6 +27,7 @@
 #include "eval/runner.hpp"
 #include "io/log_reader.hpp"
 #include "io/log_writer.hpp"
+#include "model/mujoco_kinematics.hpp"
 #include "output.hpp"
 #include "scenarios.hpp"
 #include "sim/physics_simulator.hpp"
@@ -383,11 +384,6 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   // override it.
   const std::optional<Settings> settings =
       config_.empty() ? std::nullopt : std::optional<Settings>(loadSettings(config_));
-  if (settings && (!settings->imu_extrinsic.isIdentity() || !settings->robot.model.empty())) {
-    throw InputError(config_ +
-                     ": legkit run does not use imu.extrinsic or robot.model yet; leave them at "
-                     "their defaults");
-  }
   // A physics run whose robot fell (or whose simulation diverged): when and why (its log ends
   // there).
   std::string fall;
@@ -466,9 +462,28 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   if (pipeline_options.contact == "truth" && !log.layout.contact) {
     throw UsageError("--contact truth: " + source + " has no contact columns; choose a detector");
   }
+  // The front end: the settings' IMU extrinsic, and for a log of generic joints the legs of the
+  // settings' robot section (the analytic Go2 without a model file).
+  const model::ImuExtrinsic extrinsic = settings ? settings->imu_extrinsic : model::ImuExtrinsic{};
+  std::unique_ptr<model::LegKinematics> legs;
+  if (settings && !settings->robot.model.empty() && log.layout.num_joints == 0) {
+    throw InputError(config_ + ": robot.model: " + source +
+                     " has no generic joint columns (joint<k>_q) for the robot's legs");
+  }
+  if (log.layout.num_joints > 0) {
+    const RobotSettings robot = settings ? settings->robot : RobotSettings{};
+    try {
+      legs = model::makeLegKinematics(robot.model, robot.base, robot.feet, robot.joints);
+    } catch (const std::runtime_error& e) {
+      throw InputError((settings ? config_ + ": robot.model: " : std::string()) + e.what());
+    }
+  }
+  const LogFrontend frontend =
+      legs ? LogFrontend(log.layout, *legs, noise, extrinsic)
+           : LogFrontend(log.layout, model::QuadrupedKinematics(), noise, extrinsic);
   std::optional<ContactPipeline> made;
   try {
-    made.emplace(log.layout, model::QuadrupedKinematics(), noise, pipeline_options, context);
+    made.emplace(frontend, pipeline_options, context);
   } catch (const std::invalid_argument& e) {  // a detector this log or robot cannot feed
     throw UsageError("--contact " + pipeline_options.contact + ": " + e.what());
   }
