@@ -1,5 +1,6 @@
 #include "eval/runner.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -10,6 +11,7 @@
 
 #include "estimation/imu_extrinsic_frames.hpp"
 #include "eval/consistency.hpp"
+#include "eval/metrics.hpp"
 
 namespace legkit::eval {
 
@@ -201,11 +203,17 @@ EstimateSample initialState(const io::Log& log) {
   if (log.rows.empty()) throw std::invalid_argument("initialState: the log has no rows");
   const io::LogRow& first = log.rows.front();
   EstimateSample x0;
-  x0.t = first.t;
-  if (log.layout.ground_truth) {
-    x0.q = first.gt_q;
-    x0.v = first.gt_v;
-    x0.p = first.gt_p;
+  x0.t = first.t;  // the run starts at row 0 whichever row the truth comes from
+  // The first row whose truth is valid (a masked row may hold a zero quaternion).
+  const auto valid = std::find_if(log.rows.begin(), log.rows.end(),
+                                  [](const io::LogRow& row) { return row.gt_valid; });
+  if (log.layout.ground_truth && valid != log.rows.end()) {
+    x0.q = valid->gt_q;
+    x0.p = valid->gt_p;
+    // A pose-only truth: its velocity differentiated as the metrics do (eval/metrics.hpp).
+    x0.v = log.layout.gt_velocity
+               ? valid->gt_v
+               : truthVelocity(log).v[static_cast<std::size_t>(valid - log.rows.begin())];
   } else {
     // At rest the accelerometer reads -R^T g: its direction is world up seen from the body.
     x0.q = Eigen::Quaterniond::FromTwoVectors(first.acc.normalized(), Eigen::Vector3d::UnitZ());

@@ -100,8 +100,9 @@ std::string describe(const RunFailure& failure);
 // every count is zero.
 std::string describe(const Health& health);
 
-// The initial state a run starts from: the log's ground truth at row 0 when it has one,
-// otherwise at rest at the origin with roll and pitch from the first accelerometer sample.
+// The initial state a run starts from (at row 0's time): the log's ground truth at its first
+// valid row (gt_valid) when it has one, its velocity from eval::truthVelocity on a pose-only
+// truth; otherwise at rest at the origin with roll and pitch from the first accelerometer sample.
 EstimateSample initialState(const io::Log& log);
 
 }  // namespace legkit::eval

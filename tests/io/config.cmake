@@ -10,8 +10,3 @@ target_compile_definitions(test_config_cli PRIVATE LEGKIT_EXE="$<TARGET_FILE:leg
 target_include_directories(test_config_cli PRIVATE ${PROJECT_SOURCE_DIR})
 add_dependencies(test_config_cli legkit)
 
-# tools/legkit/run_command.cpp reads settings files: the run-table test, which compiles it, links
-# them too (deferred: tests/tools/ defines that test after this file is read).
-cmake_language(DEFER DIRECTORY ${PROJECT_SOURCE_DIR}/tests CALL
-               target_link_libraries test_tools_run_table PRIVATE legkit_settings
-                    legkit_mujoco_kinematics)

@@ -70,3 +70,81 @@ TEST_CASE("run: the estimate files keep one row per period, the first and the la
   CHECK(tools::estimateRows(trajectory, 5000.0).size() == trajectory.size());
   CHECK(tools::estimateRows({}, 100.0).empty());
 }
+
+TEST_CASE("run table: metrics not computed print as n/c, the truth's masking and velocity",
+          "[cli]") {
+  tools::RunRow still;
+  still.run.name = "eskf";
+  eval::Metrics m;
+  m.position_rmse = 0.012;
+  m.drift_percent = eval::kNotComputed;       // a truth that never moved
+  m.rpe.push_back(eval::RelativeError{1.0});  // no pair over 1 m: not computed
+  m.distance = 0.0;
+  m.scored_rows = 900;
+  m.masked_rows = 100;
+  m.velocity_differentiated = true;
+  m.velocity_method = "central difference of gt_p";
+  still.metrics = m;
+
+  std::ostringstream out;
+  tools::printRunTable(out, {still});
+  const std::string table = out.str();
+  INFO(table);
+  const std::size_t line = table.find("\neskf ");
+  REQUIRE(line != std::string::npos);
+  const std::string eskf_line = table.substr(line + 1, table.find('\n', line + 1) - line - 1);
+  CHECK_THAT(eskf_line, Catch::Matchers::Contains(" n/c "));
+  CHECK_THAT(eskf_line, Catch::Matchers::Contains(" 0.012 "));
+  CHECK_THAT(table, !Catch::Matchers::Contains("nan"));
+  CHECK_THAT(table,
+             Catch::Matchers::Contains(
+                 "truth: 100 rows masked (gt_valid = 0); velocity: central difference of gt_p\n"));
+  CHECK(table.find("truth: ") > line);
+
+  const nlohmann::json j = tools::toJson({still}).at(0);
+  CHECK(j.at("drift_percent").dump() == "null");  // NaN is written as null
+  CHECK(j.at("rpe").at(0).at("computed") == false);
+  CHECK(j.at("rpe").at(0).at("translation_rmse_m").dump() == "null");
+  CHECK(j.at("distance_m") == 0.0);
+  CHECK(j.at("scored_rows") == 900);
+  CHECK(j.at("masked_rows") == 100);
+  CHECK(j.at("truth_velocity") == "central difference of gt_p");
+
+  // A truth with every row valid and its own velocity: no truth line.
+  m.masked_rows = 0;
+  m.velocity_differentiated = false;
+  still.metrics = m;
+  std::ostringstream plain;
+  tools::printRunTable(plain, {still});
+  CHECK_THAT(plain.str(), !Catch::Matchers::Contains("truth: "));
+}
+
+TEST_CASE("initial state: the first valid truth row, a pose-only truth's velocity differentiated",
+          "[cli]") {
+  // 1 s at 100 Hz, moving at (0.5, -0.2, 0) m/s, yawed 30 deg; the first 5 rows a dropout whose
+  // pose is zero (a zero quaternion).
+  io::Log log;
+  log.layout.ground_truth = true;
+  log.layout.gt_valid = true;
+  log.layout.gt_velocity = false;
+  const Eigen::Vector3d v(0.5, -0.2, 0.0);
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(0.5235987755982988, Eigen::Vector3d::UnitZ()));
+  for (int k = 0; k <= 100; ++k) {
+    io::LogRow row;
+    row.t = 2.0 + 0.01 * k;
+    row.gt_valid = k >= 5;
+    row.gt_p = row.gt_valid ? Eigen::Vector3d(1.0, 2.0, 0.3) + v * (0.01 * k) : Eigen::Vector3d();
+    row.gt_q = row.gt_valid ? q : Eigen::Quaterniond(0.0, 0.0, 0.0, 0.0);
+    log.rows.push_back(row);
+  }
+  const EstimateSample x0 = eval::initialState(log);
+  CHECK(x0.t == 2.0);  // the run still starts at row 0
+  CHECK(x0.q.angularDistance(q) < 1e-12);
+  CHECK((x0.p - log.rows[5].gt_p).norm() < 1e-12);
+  CHECK((x0.v - v).norm() < 1e-9);  // the pose differentiated, not the zero gt_v
+
+  // A truth with its own velocity takes gt_v from the same row.
+  log.layout.gt_velocity = true;
+  for (io::LogRow& row : log.rows) row.gt_v = Eigen::Vector3d(0.1, 0.0, 0.0);
+  CHECK((eval::initialState(log).v - Eigen::Vector3d(0.1, 0.0, 0.0)).norm() == 0.0);
+}

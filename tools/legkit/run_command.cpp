@@ -92,67 +92,10 @@ std::string number(double value) {
 }
 
 std::string cell(double value, int precision) {
+  if (std::isnan(value)) return "n/c";  // not computed (eval/metrics.hpp): no pairs, no distance
   std::ostringstream os;
   os << std::fixed << std::setprecision(precision) << value;
   return os.str();
-}
-
-nlohmann::json toJson(const std::vector<RunRow>& rows) {
-  nlohmann::json all = nlohmann::json::array();
-  for (const RunRow& r : rows) {
-    nlohmann::json j = {
-        {"estimator", r.run.name}, {"us_per_step", r.run.us_per_step}, {"healthy", r.run.ok()}};
-    if (r.run.failed()) j["failure"] = eval::describe(*r.run.failure);
-    nlohmann::json health = nlohmann::json::object();
-    for (int f = 0; f < static_cast<int>(Fault::kCount); ++f) {
-      const std::uint64_t n = r.run.health.count[static_cast<std::size_t>(f)];
-      if (n > 0) health[faultName(static_cast<Fault>(f))] = n;
-    }
-    j["health"] = health;
-    const double anees = eval::normalisedAnees(r.run);
-    j["anees"] = std::isnan(anees) ? nlohmann::json(nullptr) : nlohmann::json(anees);
-    j["contact_source"] = r.run.contact_source;
-    j["pipeline_us_per_step"] = r.run.pipeline_us_per_step;
-    j["slip_reaction"] = r.run.slip_reaction;
-    j["rows_with_a_slipping_foot"] =
-        std::count_if(r.run.slip.begin(), r.run.slip.end(),
-                      [](const eval::SlipSummary& s) { return s.slipping > 0; });
-    if (r.contact_scores) {
-      const eval::ContactScores& c = *r.contact_scores;
-      const auto number = [](double x) {
-        return std::isnan(x) ? nlohmann::json(nullptr) : nlohmann::json(x);
-      };
-      j["contact_scores"] = {{"precision", number(c.precision)},
-                             {"recall", number(c.recall)},
-                             {"f1", number(c.f1)},
-                             {"touchdown_delay_mean_ms", number(c.touchdown_delay_mean)},
-                             {"touchdown_delay_p95_ms", number(c.touchdown_delay_p95)},
-                             {"liftoff_delay_mean_ms", number(c.liftoff_delay_mean)},
-                             {"liftoff_delay_p95_ms", number(c.liftoff_delay_p95)},
-                             {"chatter_per_min", number(c.chatter_per_min)},
-                             {"touchdowns", c.touchdowns},
-                             {"liftoffs", c.liftoffs},
-                             {"missed_touchdowns", c.missed_touchdowns},
-                             {"missed_liftoffs", c.missed_liftoffs}};
-    }
-    if (r.metrics) {
-      j["position_rmse_m"] = r.metrics->position_rmse;
-      j["velocity_rmse_mps"] = r.metrics->velocity_rmse;
-      j["drift_percent"] = r.metrics->drift_percent;
-      j["roll_pitch_rmse_deg"] = r.metrics->tilt_rmse_deg;
-      j["yaw_rmse_deg"] = r.metrics->yaw_rmse_deg;
-      j["ate_rmse_m"] = r.metrics->ate_rmse;
-      for (const eval::RelativeError& e : r.metrics->rpe) {
-        j["rpe"].push_back({{"distance_m", e.distance},
-                            {"pairs", e.pairs},
-                            {"translation_rmse_m", e.translation_rmse},
-                            {"translation_percent", e.translation_percent},
-                            {"rotation_rmse_deg", e.rotation_rmse_deg}});
-      }
-    }
-    all.push_back(j);
-  }
-  return all;
 }
 
 // The time base of a recorded log: a median period outside [10 us, 100 ms] means the
@@ -232,6 +175,69 @@ std::string describeContacts(const ContactPipeline& pipeline, bool joints) {
 
 }  // namespace
 
+nlohmann::json toJson(const std::vector<RunRow>& rows) {
+  nlohmann::json all = nlohmann::json::array();
+  for (const RunRow& r : rows) {
+    nlohmann::json j = {
+        {"estimator", r.run.name}, {"us_per_step", r.run.us_per_step}, {"healthy", r.run.ok()}};
+    if (r.run.failed()) j["failure"] = eval::describe(*r.run.failure);
+    nlohmann::json health = nlohmann::json::object();
+    for (int f = 0; f < static_cast<int>(Fault::kCount); ++f) {
+      const std::uint64_t n = r.run.health.count[static_cast<std::size_t>(f)];
+      if (n > 0) health[faultName(static_cast<Fault>(f))] = n;
+    }
+    j["health"] = health;
+    const double anees = eval::normalisedAnees(r.run);
+    j["anees"] = std::isnan(anees) ? nlohmann::json(nullptr) : nlohmann::json(anees);
+    j["contact_source"] = r.run.contact_source;
+    j["pipeline_us_per_step"] = r.run.pipeline_us_per_step;
+    j["slip_reaction"] = r.run.slip_reaction;
+    j["rows_with_a_slipping_foot"] =
+        std::count_if(r.run.slip.begin(), r.run.slip.end(),
+                      [](const eval::SlipSummary& s) { return s.slipping > 0; });
+    if (r.contact_scores) {
+      const eval::ContactScores& c = *r.contact_scores;
+      const auto number = [](double x) {
+        return std::isnan(x) ? nlohmann::json(nullptr) : nlohmann::json(x);
+      };
+      j["contact_scores"] = {{"precision", number(c.precision)},
+                             {"recall", number(c.recall)},
+                             {"f1", number(c.f1)},
+                             {"touchdown_delay_mean_ms", number(c.touchdown_delay_mean)},
+                             {"touchdown_delay_p95_ms", number(c.touchdown_delay_p95)},
+                             {"liftoff_delay_mean_ms", number(c.liftoff_delay_mean)},
+                             {"liftoff_delay_p95_ms", number(c.liftoff_delay_p95)},
+                             {"chatter_per_min", number(c.chatter_per_min)},
+                             {"touchdowns", c.touchdowns},
+                             {"liftoffs", c.liftoffs},
+                             {"missed_touchdowns", c.missed_touchdowns},
+                             {"missed_liftoffs", c.missed_liftoffs}};
+    }
+    if (r.metrics) {
+      j["position_rmse_m"] = r.metrics->position_rmse;
+      j["velocity_rmse_mps"] = r.metrics->velocity_rmse;
+      j["drift_percent"] = r.metrics->drift_percent;
+      j["roll_pitch_rmse_deg"] = r.metrics->tilt_rmse_deg;
+      j["yaw_rmse_deg"] = r.metrics->yaw_rmse_deg;
+      j["ate_rmse_m"] = r.metrics->ate_rmse;
+      j["distance_m"] = r.metrics->distance;
+      j["scored_rows"] = r.metrics->scored_rows;
+      j["masked_rows"] = r.metrics->masked_rows;
+      j["truth_velocity"] = r.metrics->velocity_method;
+      for (const eval::RelativeError& e : r.metrics->rpe) {
+        j["rpe"].push_back({{"distance_m", e.distance},
+                            {"computed", e.computed},
+                            {"pairs", e.pairs},
+                            {"translation_rmse_m", e.translation_rmse},
+                            {"translation_percent", e.translation_percent},
+                            {"rotation_rmse_deg", e.rotation_rmse_deg}});
+      }
+    }
+    all.push_back(j);
+  }
+  return all;
+}
+
 std::vector<std::size_t> estimateRows(const std::vector<EstimateSample>& trajectory, double rate) {
   std::vector<std::size_t> rows;
   if (trajectory.empty()) return rows;
@@ -275,6 +281,14 @@ void printRunTable(std::ostream& out, const std::vector<RunRow>& rows) {
     for (int i = 0; i < 8; ++i)
       out << std::setw(width[i]) << (i == 0 ? std::left : std::right) << cells[i] << ' ';
     out << '\n';
+  }
+  // The truth behind the metrics depends only on the log: the first scored estimator says it.
+  const auto scored =
+      std::find_if(rows.begin(), rows.end(), [](const RunRow& r) { return r.metrics.has_value(); });
+  if (scored != rows.end() &&
+      (scored->metrics->masked_rows > 0 || scored->metrics->velocity_differentiated)) {
+    out << "truth: " << scored->metrics->masked_rows
+        << " rows masked (gt_valid = 0); velocity: " << scored->metrics->velocity_method << '\n';
   }
   // What went wrong, under the table: failures first, then what the estimators rejected.
   for (const RunRow& r : rows) {

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -50,7 +51,14 @@ std::vector<std::size_t> estimateRows(const std::vector<EstimateSample>& traject
 
 // The table of `legkit run`: one line per estimator (FAILED for a run that stopped), then under it
 // each failure with its file:line, time and reason, and each estimator's non-zero health counts.
+// A metric not computed prints as n/c; a truth with masked rows (gt_valid = 0) or a velocity not
+// in the log gets one line saying so.
 void printRunTable(std::ostream& out, const std::vector<RunRow>& rows);
+
+// summary.json's "estimators": per estimator its health, ANEES, contact scores and, with a truth,
+// its metrics (NaN, "not computed", as null), the truth's distance, scored and masked rows and
+// where its velocity came from.
+nlohmann::json toJson(const std::vector<RunRow>& rows);
 
 // The contact detector's table, under the estimator table: precision, recall, F1, touchdown and
 // lift-off delays, chatter against the log's true contact. One line for all estimators when their
