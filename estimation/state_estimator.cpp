@@ -50,7 +50,7 @@ const Settings& supported(const Settings& s) {
 
 StateEstimator::StateEstimator(const Settings& settings, std::size_t history, double imu_period)
     : layout_(managerLayout(supported(settings))),
-      estimator_(makeEstimator(filterName(settings))),
+      estimator_(makeEstimator(filterName(settings), settings)),
       init_params_(settings.initialisation),
       init_(settings.initialisation),
       pipeline_(layout_, model::QuadrupedKinematics(), settings.frontend, settings.pipeline,

@@ -91,11 +91,13 @@ class StateEstimator {
   static constexpr double kDefaultImuPeriod = 0.001;
 
   // The filter: the first of settings.estimators ("invariant-ekf" when the list is empty, the
-  // chapter's choice for proprioception alone). The contact source: settings.pipeline.contact,
-  // a detector of contact::detectorNames() (with settings.schmitt for "schmitt"), or "truth" for
-  // the robot's own flags in ForceSample::contact. The legs: the built-in quadruped (a robot
-  // model in settings.robot is not supported by the manager yet). Throws std::invalid_argument
-  // for an unknown estimator or detector, a robot model, history == 0 or imu_period <= 0.
+  // chapter's choice for proprioception alone), made by makeEstimator(name, settings) with the
+  // settings' IMU densities, limits, priors, feet, gating and its own section. The contact source:
+  // settings.pipeline.contact, a detector of contact::detectorNames() (with settings.schmitt for
+  // "schmitt"), or "truth" for the robot's own flags in ForceSample::contact. The legs: the
+  // built-in quadruped (a robot model in settings.robot is not supported by the manager yet).
+  // Throws std::invalid_argument for an unknown estimator or detector, a robot model, history == 0
+  // or imu_period <= 0.
   explicit StateEstimator(const Settings& settings, std::size_t history = kDefaultHistory,
                           double imu_period = kDefaultImuPeriod);
 
