@@ -46,7 +46,29 @@ const Settings& supported(const Settings& s) {
   throw std::invalid_argument(os.str());
 }
 
+// The attitude at rest with yaw 0 whose measured specific force a (-R^T g at rest: world up seen
+// from the body) points to world up.
+Eigen::Quaterniond tiltFrom(const Eigen::Vector3d& a) {
+  return Eigen::Quaterniond::FromTwoVectors(a.normalized(), Eigen::Vector3d::UnitZ());
+}
+
 }  // namespace
+
+const char* startModeName(StartMode mode) {
+  switch (mode) {
+    case StartMode::kNotStarted:
+      return "not started";
+    case StartMode::kGiven:
+      return "given";
+    case StartMode::kStillWindow:
+      return "still window";
+    case StartMode::kGaveUp:
+      return "gave up: tilt from the last samples";
+    case StartMode::kFirstSample:
+      return "first sample: tilt from its accelerometer";
+  }
+  return "?";
+}
 
 StateEstimator::StateEstimator(const Settings& settings, std::size_t history, double imu_period)
     : layout_(managerLayout(supported(settings))),
@@ -63,6 +85,7 @@ StateEstimator::StateEstimator(const Settings& settings, std::size_t history, do
 
 void StateEstimator::reset() {
   start_.reset();
+  acc_lowpass_.setZero();
   running_ = false;
   init_.reset();
   monitor_.reset();
@@ -116,6 +139,12 @@ const EstimatorOutput& StateEstimator::update(const ImuSample& imu, const JointS
                                               const ForceSample& forces) {
   check(imu, joints, forces);
   if (!running_ && !start_ && init_params_.enabled && !init_.gaveUp()) {
+    // First-order low pass over one block of the window: a = a + (dt / (tau + dt)) (a_m - a).
+    const double tau = init_params_.duration / engineering::StationaryInitialiser::kBlocks;
+    const double dt = last_t_ ? imu.t - *last_t_ : 0.0;
+    acc_lowpass_ = last_t_
+                       ? Eigen::Vector3d(acc_lowpass_ + dt / (tau + dt) * (imu.acc - acc_lowpass_))
+                       : imu.acc;
     if (!init_.add(imu.t, {imu.gyro, imu.acc}) && !init_.gaveUp()) {
       last_t_ = imu.t;  // still waiting for a still window
       out_.x = EstimateSample{};
@@ -148,13 +177,18 @@ const EstimatorOutput& StateEstimator::update(const ImuSample& imu, const JointS
       InitialState s = init_.result();  // roll, pitch and gyro bias of the still window
       s.x.t = imu.t;
       estimator_->initialise(s);
+      out_.start = StartMode::kStillWindow;
     } else {
       EstimateSample x0;
       if (start_) {
         x0 = *start_;
+        out_.start = StartMode::kGiven;
+      } else if (init_.gaveUp()) {
+        x0.q = tiltFrom(acc_lowpass_);
+        out_.start = StartMode::kGaveUp;
       } else {
-        // At rest the accelerometer reads -R^T g: its direction is world up seen from the body.
-        x0.q = Eigen::Quaterniond::FromTwoVectors(imu.acc.normalized(), Eigen::Vector3d::UnitZ());
+        x0.q = tiltFrom(imu.acc);
+        out_.start = StartMode::kFirstSample;
       }
       x0.t = imu.t;
       estimator_->reset(x0);

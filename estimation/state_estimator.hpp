@@ -57,6 +57,18 @@ struct ForceSample {
   std::array<bool, io::kMaxFeet> contact{};
 };
 
+// How the filter was started (EstimatorOutput::start).
+enum class StartMode {
+  kNotStarted,   // no sample yet, or still searching for a still window
+  kGiven,        // reset(x0)
+  kStillWindow,  // the stationary initialiser's window (57.9): roll, pitch, gyro bias
+  kGaveUp,       // no still window within max_wait: tilt from the last samples' gravity direction
+  kFirstSample,  // initialisation off: tilt from the first sample's accelerometer
+};
+// "not started", "given", "still window", "gave up: tilt from the last samples",
+// "first sample: tilt from its accelerometer".
+const char* startModeName(StartMode mode);
+
 // What update() returns.
 struct EstimatorOutput {
   EstimateSample x;             // base attitude, velocity, position at the IMU time
@@ -66,6 +78,7 @@ struct EstimatorOutput {
   Health health;             // the filter's faults and the pipeline's (kNoContact), since the start
   bool initialised = false;  // the filter is running; x is its estimate
   bool initialising = false;  // waiting for a still window (57.9); x is not an estimate yet
+  StartMode start = StartMode::kNotStarted;  // how the filter was started (kGaveUp: a poor tilt)
   // The sensor-health monitors of 57.9 after this sample (HealthMonitor): IMU dropout, stuck
   // encoder (that leg's feet are left out of the next samples' input), force drift, covariance
   // growth, P not positive definite; `uncertain` when any is active.
@@ -107,11 +120,14 @@ class StateEstimator {
   // settings.initialisation.enabled (and no reset(x0)), the IMU samples go to the stationary
   // initialiser (57.9, engineering/stationary_init.hpp) until it finds a still window: until then
   // the output says initialising and nothing is buffered; then the filter starts from its roll,
-  // pitch and gyro bias (Estimator::initialise) at rest at the origin, yaw 0. Without it, or when
-  // it gives up (max_wait without a still window), the filter starts at the current sample at
-  // rest at the origin, yaw 0, roll and pitch from that one accelerometer reading: a poor tilt,
-  // 15.7 deg off on the standing physics trot (the WARN of test_state_estimator), which the
-  // window's average takes below 1 deg. reset(x0) starts from x0 at the next sample instead.
+  // pitch and gyro bias (Estimator::initialise) at rest at the origin, yaw 0. When it gives up
+  // (max_wait without a still window) the loop goes on: the filter starts at that sample at rest
+  // at the origin, yaw 0, roll and pitch from the gravity direction of the last samples (the
+  // accelerometer low-passed over one block of the window, duration / kBlocks), and the output
+  // says so (start == StartMode::kGaveUp). Without it, roll and pitch from the first sample's one
+  // accelerometer reading: a poor tilt, 15.7 deg off on the standing physics trot (the WARN of
+  // test_state_estimator), which the window's average takes below 1 deg. reset(x0) starts from x0
+  // at the next sample instead.
   // The reference stays valid until the next update() or reset().
   const EstimatorOutput& update(const ImuSample& imu, const JointSample& joints,
                                 const ForceSample& forces);
@@ -148,8 +164,11 @@ class StateEstimator {
   engineering::StationaryInitParams init_params_;
   engineering::StationaryInitialiser init_;
   std::optional<EstimateSample> start_;  // reset(x0)
-  bool running_ = false;                 // the filter has been started
-  io::LogRow row_;                       // the samples as a log row
+  // The accelerometer low-passed while initialising (its gravity direction is the start's tilt
+  // when the initialiser gives up); zero before the first sample.
+  Eigen::Vector3d acc_lowpass_ = Eigen::Vector3d::Zero();
+  bool running_ = false;  // the filter has been started
+  io::LogRow row_;        // the samples as a log row
   engineering::HealthMonitor monitor_;
   StepInput trimmed_;  // the pipeline's input less the feet of invalid joints or stuck legs
   EstimatorOutput out_;

@@ -3,3 +3,14 @@
 # no allocation per update.
 legkit_add_test(test_state_estimator SOURCES state_estimator_test.cpp
                 LIBS legkit_state_estimator legkit_eval legkit_physics LABELS "57.11;physics")
+
+# legkit-estimate on a simulated trot without truth: the 1 s stand never passes the 2 s still
+# window, so the manager gives up after --init-wait (0.8 s by default) and the loop runs on.
+add_test(NAME legkit_estimate_gives_up
+         COMMAND /bin/sh -c "\"$1\" sim --scenario physics-trot --duration 2 --seed 1 \
+--no-ground-truth --out estimate-nogt.csv > /dev/null && \"$2\" estimate-nogt.csv"
+                 sh $<TARGET_FILE:legkit> $<TARGET_FILE:legkit-estimate>
+         WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+set_tests_properties(legkit_estimate_gives_up
+                     PROPERTIES LABELS "57.11;cli;physics" PASS_REGULAR_EXPRESSION
+                                "filter started at t = 0\\.80[0-9] s \\(gave up: tilt from the last samples\\)")
