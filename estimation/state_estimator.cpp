@@ -6,18 +6,38 @@
 #include <stdexcept>
 
 #include "estimation/estimators.hpp"
+#include "estimation/imu_extrinsic_frames.hpp"
+#include "model/mujoco_kinematics.hpp"
 
 namespace legkit {
 namespace {
 
-// The columns the manager's samples fill: quadruped joints, forces, and the robot's flags when
-// they are the contact source.
-io::LogLayout managerLayout(const Settings& s) {
+// The legs of settings.robot: null for the built-in quadruped (no model), else its model file's
+// (model::makeLegKinematics, whose errors are std::runtime_error naming the file).
+std::unique_ptr<model::LegKinematics> robotLegs(const RobotSettings& r) {
+  if (r.model.empty()) return nullptr;
+  return model::makeLegKinematics(r.model, r.base, r.feet, r.joints);
+}
+
+// The columns the manager's samples fill: the quadruped's joints (or the robot's generic joints),
+// forces, and the robot's flags when they are the contact source.
+io::LogLayout managerLayout(const Settings& s, const model::LegKinematics* legs) {
   io::LogLayout layout;
-  layout.joints = true;
+  if (legs) {
+    layout.joints = false;
+    layout.num_joints = legs->numJoints();
+    layout.num_feet = legs->numFeet();
+  }
   layout.force = true;
   layout.contact = s.pipeline.contact == "truth";
   return layout;
+}
+
+// The front end: feet into the IMU frame of settings.imu_extrinsic, through the robot's legs.
+LogFrontend frontendOf(const io::LogLayout& layout, const model::LegKinematics* legs,
+                       const Settings& s) {
+  return legs ? LogFrontend(layout, *legs, s.frontend, s.imu_extrinsic)
+              : LogFrontend(layout, model::QuadrupedKinematics(), s.frontend, s.imu_extrinsic);
 }
 
 std::string filterName(const Settings& s) {
@@ -28,15 +48,6 @@ contact::DetectorContext detectorContext(const Settings& s) {
   contact::DetectorContext c;
   c.schmitt = s.schmitt;
   return c;
-}
-
-const Settings& supported(const Settings& s) {
-  if (!s.robot.model.empty()) {
-    throw std::invalid_argument("StateEstimator: robot.model '" + s.robot.model +
-                                "': the manager runs the built-in quadruped only (robot.model "
-                                "must be empty)");
-  }
-  return s;
 }
 
 [[noreturn]] void bad(double t, const std::string& what) {
@@ -71,13 +82,15 @@ const char* startModeName(StartMode mode) {
 }
 
 StateEstimator::StateEstimator(const Settings& settings, std::size_t history, double imu_period)
-    : layout_(managerLayout(supported(settings))),
+    : legs_(robotLegs(settings.robot)),
+      layout_(managerLayout(settings, legs_.get())),
+      extrinsic_(settings.imu_extrinsic),
       estimator_(makeEstimator(filterName(settings), settings)),
+      pipeline_(frontendOf(layout_, legs_.get(), settings), settings.pipeline,
+                detectorContext(settings)),
       init_params_(settings.initialisation),
       init_(settings.initialisation),
-      pipeline_(layout_, model::QuadrupedKinematics(), settings.frontend, settings.pipeline,
-                detectorContext(settings)),
-      monitor_(settings.monitors, io::kNumLegs, imu_period),
+      monitor_(settings.monitors, layout_.num_feet, imu_period),
       ring_(history) {
   if (history == 0) throw std::invalid_argument("StateEstimator: history must be at least 1");
   reset();
@@ -114,9 +127,9 @@ void StateEstimator::check(const ImuSample& imu, const JointSample& joints,
   if (!imu.gyro.allFinite()) bad(imu.t, "imu.gyro is not finite");
   if (!imu.acc.allFinite()) bad(imu.t, "imu.acc is not finite");
   if (joints.valid) {
-    if (joints.count != io::kNumJoints) {
+    if (joints.count != numJoints()) {
       bad(imu.t, "joints.count is " + std::to_string(joints.count) + ", the robot has " +
-                     std::to_string(io::kNumJoints) + " joints");
+                     std::to_string(numJoints()) + " joints");
     }
     for (int j = 0; j < joints.count; ++j) {
       if (!std::isfinite(joints.q[j]))
@@ -161,11 +174,15 @@ const EstimatorOutput& StateEstimator::update(const ImuSample& imu, const JointS
   row_.t = imu.t;
   row_.gyro = imu.gyro;
   row_.acc = imu.acc;
-  if (joints.valid) {
+  if (joints.valid && legs_) {
+    row_.joint_q = joints.q;
+    row_.joint_dq = joints.dq;
+  } else if (joints.valid) {
     row_.q = joints.q.head<io::kNumJoints>();
     row_.dq = joints.dq.head<io::kNumJoints>();
   } else {
     row_.dq.setZero();  // the last valid angles, held still
+    row_.joint_dq.setZero();
   }
   for (int f = 0; f < layout_.num_feet; ++f) {
     row_.force[f] = forces.valid ? forces.force[f] : std::numeric_limits<double>::quiet_NaN();
@@ -181,7 +198,9 @@ const EstimatorOutput& StateEstimator::update(const ImuSample& imu, const JointS
     } else {
       EstimateSample x0;
       if (start_) {
-        x0 = *start_;
+        // Given at the base: the filter's body is the IMU (base-frame rate R_BI w_I).
+        x0 = extrinsic_.isIdentity() ? *start_
+                                     : imuFromBase(extrinsic_, *start_, extrinsic_.q_BI * imu.gyro);
         out_.start = StartMode::kGiven;
       } else if (init_.gaveUp()) {
         x0.q = tiltFrom(acc_lowpass_);
@@ -200,7 +219,7 @@ const EstimatorOutput& StateEstimator::update(const ImuSample& imu, const JointS
       pipeline_.step(row_, dt, estimator_->estimate(), estimator_->covariance());
   // The IMU alone when the encoders gave nothing; without the legs a monitor found stuck.
   bool all_trusted = true;
-  for (int f = 0; f < io::kNumLegs; ++f) all_trusted = all_trusted && monitor_.legTrusted(f);
+  for (int f = 0; f < layout_.num_feet; ++f) all_trusted = all_trusted && monitor_.legTrusted(f);
   if (joints.valid && all_trusted) {
     estimator_->step(piped);
   } else {
@@ -214,10 +233,14 @@ const EstimatorOutput& StateEstimator::update(const ImuSample& imu, const JointS
   }
   last_t_ = imu.t;
 
-  out_.x = estimator_->estimate();
+  // The filter's IMU state moved back to the base at the sample's measured rate.
+  const EstimateSample& x_I = estimator_->estimate();
+  const bool mounted =
+      !extrinsic_.isIdentity();  // else base = IMU, the filter's numbers as they are
+  out_.x = mounted ? baseFromImu(extrinsic_, x_I, imu.gyro) : x_I;
   const std::optional<BaseCovariance> P = estimator_->covariance();
   out_.has_covariance = P.has_value();
-  if (P) out_.P = *P;
+  if (P) out_.P = mounted ? baseCovarianceFromImu(extrinsic_, x_I, imu.gyro, *P) : *P;
   out_.contacts = pipeline_.contacts();
   out_.health = estimator_->health();
   const Health& silence = pipeline_.health();
@@ -233,11 +256,16 @@ const EstimatorOutput& StateEstimator::update(const ImuSample& imu, const JointS
   engineering::MonitorInput m;
   m.t = imu.t;
   m.gyro = imu.gyro;
-  m.num_joints = io::kNumJoints;
-  m.q.head<io::kNumJoints>() = row_.q;
-  m.dq.head<io::kNumJoints>() = row_.dq;
+  m.num_joints = numJoints();
+  if (legs_) {
+    m.q = row_.joint_q;
+    m.dq = row_.joint_dq;
+  } else {
+    m.q.head<io::kNumJoints>() = row_.q;
+    m.dq.head<io::kNumJoints>() = row_.dq;
+  }
   m.has_force = forces.valid;
-  for (int f = 0; f < io::kNumLegs; ++f) {
+  for (int f = 0; f < layout_.num_feet; ++f) {
     m.force[f] = row_.force[f];
     m.force_model[f] = std::numeric_limits<double>::quiet_NaN();  // no torques: no force model
   }

@@ -26,6 +26,8 @@
 #include "estimation/estimator.hpp"
 #include "estimation/settings.hpp"
 #include "io/log.hpp"
+#include "model/imu_extrinsic.hpp"
+#include "model/leg_kinematics.hpp"
 
 namespace legkit {
 
@@ -37,7 +39,8 @@ struct ImuSample {
 };
 
 // The joint encoders at the same instant. The built-in quadruped has 12 joints (index 3 leg +
-// joint, legs FL FR RL RR); count must be the robot's joint count.
+// joint, legs FL FR RL RR); a robot of settings.robot has its model's (up to io::kMaxJoints = 24,
+// in its joint<k>_ column order). count must be the robot's joint count.
 struct JointSample {
   int count = io::kNumJoints;
   io::GenericJointVector q = io::GenericJointVector::Zero();   // [rad], the first `count` used
@@ -71,7 +74,9 @@ const char* startModeName(StartMode mode);
 
 // What update() returns.
 struct EstimatorOutput {
-  EstimateSample x;             // base attitude, velocity, position at the IMU time
+  // The base's attitude, velocity, position at the IMU time (the filter runs in the IMU frame;
+  // settings.imu_extrinsic moves it back to the base at the sample's measured rate).
+  EstimateSample x;
   BaseCovariance P;             // its covariance (meaningless when !has_covariance)
   bool has_covariance = false;  // false for estimators without one (leg odometry, dead reckoning)
   contact::ContactEstimate contacts;  // per foot: the flag and p_c the filter was given
@@ -108,9 +113,11 @@ class StateEstimator {
   // settings' IMU densities, limits, priors, feet, gating and its own section. The contact source:
   // settings.pipeline.contact, a detector of contact::detectorNames() (with settings.schmitt for
   // "schmitt"), or "truth" for the robot's own flags in ForceSample::contact. The legs: the
-  // built-in quadruped (a robot model in settings.robot is not supported by the manager yet).
-  // Throws std::invalid_argument for an unknown estimator or detector, a robot model, history == 0
-  // or imu_period <= 0.
+  // built-in quadruped when settings.robot.model is empty, else the robot's model file
+  // (model::makeLegKinematics: generic joints, its feet); the feet go into the IMU frame of
+  // settings.imu_extrinsic (the front end, estimation/log_frontend.hpp). Throws
+  // std::invalid_argument for an unknown estimator or detector, history == 0 or imu_period <= 0,
+  // and std::runtime_error naming the file for a robot model that cannot be read.
   explicit StateEstimator(const Settings& settings, std::size_t history = kDefaultHistory,
                           double imu_period = kDefaultImuPeriod);
 
@@ -142,13 +149,16 @@ class StateEstimator {
 
   // Starts over: the next update() is a first sample.
   void reset();
-  // Starts over from a known state (its time is ignored: the next sample's is used).
+  // Starts over from a known state of the base (its time is ignored: the next sample's is used).
   void reset(const EstimateSample& x0);
 
   const EstimatorOutput& output() const { return out_; }
   std::string estimatorName() const { return estimator_->name(); }
   std::string contactSource() const { return pipeline_.source(); }
   const io::LogLayout& layout() const { return layout_; }
+  // The robot's joints and feet: 12 and 4 for the built-in quadruped, else its model's.
+  int numJoints() const { return legs_ ? legs_->numJoints() : io::kNumJoints; }
+  int numFeet() const { return layout_.num_feet; }
   // States in the buffer, and the oldest one's time (NaN when empty).
   std::size_t buffered() const { return count_; }
   double oldestTime() const;
@@ -158,7 +168,9 @@ class StateEstimator {
   const EstimateSample& past(std::size_t k) const;
   void check(const ImuSample& imu, const JointSample& joints, const ForceSample& forces) const;
 
+  std::unique_ptr<model::LegKinematics> legs_;  // settings.robot's; null: the built-in quadruped
   io::LogLayout layout_;
+  model::ImuExtrinsic extrinsic_;  // the IMU in the base frame: the filter's body is the IMU
   std::unique_ptr<Estimator> estimator_;
   ContactPipeline pipeline_;
   engineering::StationaryInitParams init_params_;
