@@ -59,7 +59,10 @@ contact::DetectorContext detectorContext(const Settings& s) {
 
 // The attitude at rest with yaw 0 whose measured specific force a (-R^T g at rest: world up seen
 // from the body) points to world up.
+// The attitude whose roll and pitch put the measured specific force a on world up (yaw 0); level
+// when a is zero (free fall, or a dead sensor: no direction to take).
 Eigen::Quaterniond tiltFrom(const Eigen::Vector3d& a) {
+  if (!(a.norm() > 0.0)) return Eigen::Quaterniond::Identity();
   return Eigen::Quaterniond::FromTwoVectors(a.normalized(), Eigen::Vector3d::UnitZ());
 }
 

@@ -215,8 +215,10 @@ EstimateSample initialState(const io::Log& log) {
                ? valid->gt_v
                : truthVelocity(log).v[static_cast<std::size_t>(valid - log.rows.begin())];
   } else {
-    // At rest the accelerometer reads -R^T g: its direction is world up seen from the body.
-    x0.q = Eigen::Quaterniond::FromTwoVectors(first.acc.normalized(), Eigen::Vector3d::UnitZ());
+    // At rest the accelerometer reads -R^T g: its direction is world up seen from the body. A
+    // zero reading (free fall, a dead sensor) has no direction: level.
+    if (first.acc.norm() > 0.0)
+      x0.q = Eigen::Quaterniond::FromTwoVectors(first.acc.normalized(), Eigen::Vector3d::UnitZ());
   }
   return x0;
 }

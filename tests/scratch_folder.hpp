@@ -1,5 +1,5 @@
-// Test helpers for programs that write files: a fresh scratch folder removed afterwards, and a
-// file's whole text.
+// Test helpers for programs that write files: a fresh scratch folder removed afterwards, a
+// file's whole text, and a program run inside a folder with its output read back.
 #pragma once
 
 #include <unistd.h>
@@ -8,6 +8,9 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
+
+#include "spawn.hpp"
 
 namespace legkit::test {
 
@@ -32,6 +35,23 @@ inline std::string slurp(const std::filesystem::path& path) {
   std::stringstream text;
   text << f.rdbuf();
   return text.str();
+}
+
+// A program's exit status (-1 if it did not exit) and its standard output and error together.
+struct ProgramResult {
+  int status = -1;
+  std::string output;
+};
+
+// Runs argv inside `dir` (no shell: each argument reaches the program as it is), its output into
+// dir/cli-output.txt, and reads that back.
+inline ProgramResult runProgram(const std::filesystem::path& dir,
+                                const std::vector<std::string>& argv) {
+  const std::filesystem::path output = dir / "cli-output.txt";
+  ProgramResult r;
+  r.status = spawnAndWait(argv, dir.string(), output.string());
+  r.output = slurp(output);
+  return r;
 }
 
 }  // namespace legkit::test

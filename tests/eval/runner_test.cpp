@@ -185,3 +185,18 @@ TEST_CASE("runner: on a contact pipeline, the same failure rules; flags and slip
   CHECK_THAT(r.failure->what, Catch::Matchers::Contains("threw: stubborn: planted"));
   CHECK(r.trajectory.size() == 4);
 }
+
+TEST_CASE("runner: a log without truth whose first accelerometer reading is zero starts level",
+          "[eval]") {
+  io::Log log;
+  log.layout.joints = true;
+  log.rows.resize(2);
+  log.rows[1].t = 0.001;
+  log.rows[1].acc = Eigen::Vector3d(0.0, 0.0, 9.81);
+  const EstimateSample x0 = eval::initialState(log);  // row 0 reads a = 0: free fall, no tilt
+  CHECK(x0.q.coeffs().allFinite());
+  CHECK(x0.q.angularDistance(Eigen::Quaterniond::Identity()) == 0.0);
+  log.rows[0].acc = Eigen::Vector3d(0.0, 9.81, 0.0);  // lying on its side: rolled 90 deg
+  CHECK(eval::initialState(log).q.angularDistance(
+            Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()))) < 1e-12);
+}

@@ -15,18 +15,12 @@ namespace {
 using Catch::Matchers::Contains;
 using legkit::test::slurp;
 
-struct Result {
-  int status = -1;
-  std::string output;  // standard output and error together
-};
+using Result = legkit::test::ProgramResult;
 
+// Runs legkit with `arguments` inside `dir`.
 Result runLegkit(const fs::path& dir, std::vector<std::string> arguments) {
-  const fs::path output = dir / "cli-output.txt";
   arguments.insert(arguments.begin(), LEGKIT_EXE);
-  Result r;
-  r.status = legkit::test::spawnAndWait(arguments, dir.string(), output.string());
-  r.output = slurp(output);
-  return r;
+  return legkit::test::runProgram(dir, arguments);
 }
 
 void write(const fs::path& path, const std::string& text) {

@@ -24,19 +24,12 @@ namespace {
 using Folder = legkit::test::ScratchFolder;
 using legkit::test::slurp;
 
-struct Result {
-  int status = -1;
-  std::string output;  // standard output and error together
-};
+using Result = legkit::test::ProgramResult;
 
-// Runs legkit with `arguments` inside `dir` (no shell: each argument reaches it as it is).
+// Runs legkit with `arguments` inside `dir`.
 Result runLegkit(const fs::path& dir, std::vector<std::string> arguments) {
-  const fs::path output = dir / "cli-output.txt";
   arguments.insert(arguments.begin(), LEGKIT_EXE);
-  Result r;
-  r.status = legkit::test::spawnAndWait(arguments, dir.string(), output.string());
-  r.output = slurp(output);
-  return r;
+  return legkit::test::runProgram(dir, arguments);
 }
 
 }  // namespace
