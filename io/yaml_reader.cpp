@@ -168,7 +168,7 @@ std::string YamlValue::text() const {
 }
 
 std::string YamlValue::oneOf(const std::vector<std::string>& allowed) const {
-  const std::string s = text();
+  std::string s = text();
   if (std::find(allowed.begin(), allowed.end(), s) == allowed.end()) {
     fail("expected one of " + list(allowed) + ", got '" + s + "'");
   }
