@@ -9,9 +9,10 @@
 // estimators would have to pick one and silently ignore the other):
 //  - quadruped joints (the built-in Go2-class model): 12 joint angles and velocities, legs FL, FR,
 //    RL, RR, joints per leg: hip abduction, hip flexion, knee. Foot ids 0..3 are FL..RR.
-//  - robot-agnostic feet: for up to kMaxFeet feet, the foot position in the body (IMU) frame and
-//    its covariance, already computed by the robot's own kinematics. An estimator turns these
-//    directly into legkit::ContactMeasurement (model/contact_measurement.hpp).
+//  - robot-agnostic feet: for up to kMaxFeet feet, the foot position in the base frame and its
+//    covariance, already computed by the robot's own kinematics (the base frame is the IMU's
+//    unless the settings give an IMU extrinsic: the front end, estimation/log_frontend.hpp, then
+//    moves the feet into the IMU frame before they become legkit::ContactMeasurement).
 #pragma once
 
 #include <Eigen/Core>
@@ -77,7 +78,7 @@ struct LogLayout {
 
 // A foot seen from the body, as the robot's own kinematics computed it.
 struct FootKinematics {
-  Eigen::Vector3d p_body = Eigen::Vector3d::Zero();  // foot position in the body frame [m]
+  Eigen::Vector3d p_body = Eigen::Vector3d::Zero();  // foot position in the base frame [m]
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();     // its covariance [m^2] (diagonal if kDiagonal)
   Eigen::Vector3d v_body = Eigen::Vector3d::Zero();  // its velocity relative to the body [m/s]
 };
