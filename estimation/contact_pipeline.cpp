@@ -78,11 +78,7 @@ const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const E
                                        const std::optional<BaseCovariance>& P) {
   const int num_feet = frontend_.layout().num_feet;
   if (detector_) {
-    contact::BaseFeedback base;
-    base.valid = true;
-    base.R = x.q.toRotationMatrix();
-    base.v = x.v;
-    base.p = x.p;
+    const contact::BaseFeedback base = contact::feedbackFrom(x);
     contacts_ = detector_->update(frontend_.signals(row, dt, base));
   } else {
     contacts_.t = row.t;

@@ -163,11 +163,7 @@ MonitoredRun runMonitored(Estimator& estimator, const io::Log& log, ContactPipel
     in.force = row.force;
     in.force_model.fill(kNaN);
     if (force_model) {
-      contact::BaseFeedback base;
-      base.valid = true;
-      base.R = x.q.toRotationMatrix();
-      base.v = x.v;
-      base.p = x.p;
+      const contact::BaseFeedback base = contact::feedbackFrom(x);
       const auto f = torque_force.estimate(pipeline.frontend().signals(row, dt, base));
       for (int i = 0; i < io::kNumLegs; ++i) in.force_model[i] = f[i].z();
     }

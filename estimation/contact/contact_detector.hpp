@@ -19,6 +19,7 @@
 #include <limits>
 #include <string>
 
+#include "estimation/estimate.hpp"
 #include "estimation/leg_odometry/contact_span.hpp"
 
 namespace legkit::contact {
@@ -46,6 +47,11 @@ struct BaseFeedback {
   Eigen::Vector3d v = Eigen::Vector3d::Zero();      // [m/s]
   Eigen::Vector3d p = Eigen::Vector3d::Zero();      // [m]
 };
+
+// The feedback of an estimator's estimate x (the previous step's, 57.6's chicken-and-egg rule).
+inline BaseFeedback feedbackFrom(const EstimateSample& x) {
+  return {true, x.q.toRotationMatrix(), x.v, x.p};
+}
 
 struct ContactSignals {
   double t = 0.0;   // sample time [s]

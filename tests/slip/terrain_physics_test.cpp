@@ -67,11 +67,7 @@ slip::TerrainClassifier classify(const sim::PhysicsResult& run, const std::strin
     const io::LogRow& row = log.rows[k];
     const double dt = k == 0 ? 0.0 : row.t - log.rows[k - 1].t;
     filter->step(pipeline.step(row, dt, x, P));
-    contact::BaseFeedback base;
-    base.valid = true;
-    base.R = x.q.toRotationMatrix();
-    base.v = x.v;
-    base.p = x.p;
+    const contact::BaseFeedback base = contact::feedbackFrom(x);
     const auto f = forces.estimate(pipeline.frontend().signals(row, dt, base));
     terrain.update(pipeline.slipReport(), f.data(), kFeet, dt);
     x = filter->estimate();

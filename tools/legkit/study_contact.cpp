@@ -124,11 +124,7 @@ PipelineRun runPipeline(const io::Log& log, Estimator& filter, ContactPipeline& 
     const double dt = k == 0 ? 0.0 : row.t - log.rows[k - 1].t;
     filter.step(pipeline.step(row, dt, x, P));
     if (terrain) {
-      contact::BaseFeedback base;
-      base.valid = true;
-      base.R = x.q.toRotationMatrix();
-      base.v = x.v;
-      base.p = x.p;
+      const contact::BaseFeedback base = contact::feedbackFrom(x);
       const auto f = terrain->forces.estimate(pipeline.frontend().signals(row, dt, base));
       terrain->classifier.update(pipeline.slipReport(), f.data(), kFeet, dt);
     }
