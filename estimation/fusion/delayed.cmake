@@ -1,0 +1,1 @@
+# (owner: delayed) — see estimation/fusion/CMakeLists.txt

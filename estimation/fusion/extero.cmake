@@ -1,0 +1,1 @@
+# (owner: extero) — see estimation/fusion/CMakeLists.txt

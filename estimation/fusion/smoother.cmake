@@ -1,0 +1,1 @@
+# (owner: smoother) — see estimation/fusion/CMakeLists.txt

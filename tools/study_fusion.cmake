@@ -1,0 +1,1 @@
+# (owner: study) `legkit study fusion`
