@@ -15,6 +15,10 @@ namespace ex57_8_1 {
 // so cov_MO = J_s cov_s J_s^T + J_o cov_o J_o^T with
 //   J_s = [ I     0 ]      J_o = [ -R_MO          0     ]
 //         [ [q]x  I ],           [ -[q]x R_MO   -R_MO  ].
+// A filter whose state is T_MO (the kit's estimation/fusion/map_odom.hpp) then sees this
+// measurement directly: innovation (Log(R_MO,meas R_MO_hat^T), p_MO,meas - p_MO_hat), H = I_6,
+// measurement covariance cov_MO. The lever arm q makes an attitude error of either pose a position
+// error of T_MO that grows with the distance from the odom origin.
 Pose mapOdomMeasurement(const PoseMeasurement& z, const Pose& T_OB) {
   Pose T_MO;
   T_MO.R = z.R_MB * T_OB.R.inverse();
