@@ -1,0 +1,134 @@
+// The smoother's factors (section 57.8) vanish at the true states of a noise-free motion.
+//
+// The motion is a helix about the vertical, written in closed form (not integrated): the body
+// turns at a constant body rate w_b whose world direction R_0 w_b is vertical, and moves at a
+// constant body-frame velocity v_b, so
+//   R(t) = R_0 Exp(w_b t),   v(t) = R(t) v_b,   p(t) = p_0 + R_0 Gamma_1(w_b t) v_b t,
+// and the specific force f = w_b x v_b - R(t)^T g is constant too (R_0^T g is along w_b, which
+// Exp(-w_b t) leaves alone). The gyro, accelerometer and leg velocity readings are therefore
+// constant, and both preintegrations are exact for such input: the whitened residuals are zero
+// to rounding. R_0 is tilted, so w_b has all three body components.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "estimation/fusion/factors.hpp"
+#include "lie/so3.hpp"
+
+// Ceres pulls in glog, whose CHECK(condition) replaces Catch's CHECK: restore Catch's.
+#undef CHECK
+#define CHECK(...) \
+  INTERNAL_CATCH_TEST("CHECK", Catch::ResultDisposition::ContinueOnFailure, __VA_ARGS__)
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using legkit::fusion::ImuFactor;
+using legkit::fusion::LegOdometryFactor;
+using legkit::fusion::LegPreintegrator;
+using legkit::fusion::PoseFactor;
+using legkit::fusion::PoseMeasurement;
+using legkit::imu::Preintegrator;
+using legkit::model::ImuBias;
+using legkit::model::ImuReading;
+
+namespace {
+
+constexpr double kDt = 1e-3;
+
+struct Helix {
+  Matrix3d R_0;
+  Vector3d w_b, v_b, p_0;
+  Vector3d g = legkit::model::gravity();
+
+  Helix() {
+    R_0 = lie::SO3d::Exp(Vector3d(0.4, -0.3, 0.9)).matrix();
+    w_b = R_0.transpose() * Vector3d(0.0, 0.0, 0.7);  // 0.7 rad/s yaw rate about the vertical
+    v_b = Vector3d(0.6, -0.1, 0.05);                  // forward, a little sideways and up
+    p_0 = Vector3d(1.0, 2.0, 0.3);
+  }
+  Matrix3d R(double t) const { return R_0 * lie::SO3d::Exp(Vector3d(w_b * t)).matrix(); }
+  Vector3d v(double t) const { return R(t) * v_b; }
+  Vector3d p(double t) const { return p_0 + R_0 * lie::Gamma<1>(Vector3d(w_b * t)) * v_b * t; }
+  Vector3d specificForce(double t) const { return w_b.cross(v_b) - R(t).transpose() * g; }
+};
+
+}  // namespace
+
+TEST_CASE("57.8 the helix is what it claims: p' = v, constant specific force", "[factors]") {
+  const Helix h;
+  const double t = 1.3, e = 1e-5;
+  CHECK(((h.p(t + e) - h.p(t - e)) / (2 * e) - h.v(t)).norm() <= 1e-8);
+  const Vector3d a = (h.v(t + e) - h.v(t - e)) / (2 * e);
+  CHECK((h.R(t).transpose() * (a - h.g) - h.specificForce(0.0)).norm() <= 1e-8);
+  CHECK((h.specificForce(t) - h.specificForce(0.0)).norm() <= 1e-12);
+}
+
+TEST_CASE("57.8 IMU, leg and pose factors vanish at the true states of a noise-free helix",
+          "[factors]") {
+  const Helix h;
+  ImuBias b;  // the sensors' true biases, also the preintegrations' linearisation point
+  b.b_g = Vector3d(0.01, -0.02, 0.005);
+  b.b_a = Vector3d(-0.1, 0.05, 0.2);
+  const Vector3d b_v(0.03, -0.01, 0.02);  // the legs' velocity bias
+
+  const double t_i = 0.7;
+  const int n = 100;  // 0.1 s between keyframes at 1 kHz
+  const double t_j = t_i + n * kDt;
+  Preintegrator pim(b);
+  LegPreintegrator lpi(b.b_g, b_v);
+  const Matrix3d Sigma_v = Vector3d(0.05, 0.05, 0.1).cwiseAbs2().asDiagonal();
+  for (int k = 0; k < n; ++k) {
+    const ImuReading m{h.w_b + b.b_g, h.specificForce(t_i + k * kDt) + b.b_a};
+    pim.integrate(m, kDt);
+    lpi.integrate(m.w_m, h.v_b + b_v, Sigma_v, kDt);
+  }
+
+  const Matrix3d R_i = h.R(t_i), R_j = h.R(t_j);
+  const Vector3d v_i = h.v(t_i), v_j = h.v(t_j), p_i = h.p(t_i), p_j = h.p(t_j);
+  // How far the keyframes are apart, so that a zero residual says something.
+  REQUIRE((p_j - p_i).norm() > 0.05);
+  REQUIRE(lie::SO3d::logOfMatrix(R_i.transpose() * R_j).norm() > 0.05);
+
+  const ImuFactor imu(pim, h.g);
+  const double* x_imu[] = {R_i.data(), v_i.data(), p_i.data(),   R_j.data(),
+                           v_j.data(), p_j.data(), b.b_g.data(), b.b_a.data()};
+  Eigen::Matrix<double, 9, 1> r_imu;
+  REQUIRE(imu.Evaluate(x_imu, r_imu.data(), nullptr));
+  INFO("IMU residual (whitened) " << r_imu.transpose());
+  CHECK(r_imu.cwiseAbs().maxCoeff() <= 1e-6);
+
+  const LegOdometryFactor leg(lpi);
+  const double* x_leg[] = {R_i.data(), p_i.data(), p_j.data(), b_v.data(), b.b_g.data()};
+  Vector3d r_leg;
+  REQUIRE(leg.Evaluate(x_leg, r_leg.data(), nullptr));
+  INFO("leg residual (whitened) " << r_leg.transpose());
+  CHECK(r_leg.cwiseAbs().maxCoeff() <= 1e-6);
+
+  PoseMeasurement z;
+  z.t = t_j;
+  z.R_MB = lie::SO3d::fromMatrix(R_j);
+  z.p_MB = p_j;
+  z.cov.diagonal() << 1e-6, 1e-6, 1e-6, 1e-4, 1e-4, 1e-4;
+  const PoseFactor pose(z);
+  const double* x_pose[] = {R_j.data(), p_j.data()};
+  Eigen::Matrix<double, 6, 1> r_pose;
+  REQUIRE(pose.Evaluate(x_pose, r_pose.data(), nullptr));
+  CHECK(r_pose.cwiseAbs().maxCoeff() <= 1e-9);
+
+  // The same factors see a wrong state: each residual is far from zero (whitened, > 3 sigma).
+  const Vector3d p_j_wrong = p_j + Vector3d(0.05, 0.0, 0.0);
+  x_imu[5] = p_j_wrong.data();
+  x_leg[2] = p_j_wrong.data();
+  x_pose[1] = p_j_wrong.data();
+  REQUIRE(imu.Evaluate(x_imu, r_imu.data(), nullptr));
+  REQUIRE(leg.Evaluate(x_leg, r_leg.data(), nullptr));
+  REQUIRE(pose.Evaluate(x_pose, r_pose.data(), nullptr));
+  CHECK(r_imu.norm() > 3.0);
+  CHECK(r_leg.norm() > 3.0);
+  CHECK(r_pose.norm() > 3.0);
+  // A wrong velocity bias moves only the leg factor.
+  const Vector3d b_v_wrong = b_v + Vector3d(0.05, 0.0, 0.0);
+  x_leg[2] = p_j.data();
+  x_leg[3] = b_v_wrong.data();
+  REQUIRE(leg.Evaluate(x_leg, r_leg.data(), nullptr));
+  CHECK(r_leg.norm() > 3.0);
+}
