@@ -4,3 +4,7 @@ legkit_add_test(test_extero_pose_log SOURCES ${CMAKE_CURRENT_LIST_DIR}/extero_po
                 LIBS legkit_fusion_extero LABELS "fusion;57.8")
 legkit_add_test(test_extero_simulator SOURCES ${CMAKE_CURRENT_LIST_DIR}/extero_simulator_test.cpp
                 LIBS legkit_fusion_extero LABELS "fusion;57.8")
+legkit_add_test(test_extero_history SOURCES ${CMAKE_CURRENT_LIST_DIR}/extero_history_test.cpp
+                LIBS legkit_fusion_extero LABELS "fusion;57.8")
+legkit_add_test(test_extero_map_odom SOURCES ${CMAKE_CURRENT_LIST_DIR}/extero_map_odom_test.cpp
+                LIBS legkit_fusion_extero LABELS "fusion;57.8")
