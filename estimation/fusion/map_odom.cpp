@@ -48,19 +48,20 @@ MapOdomAlignment::Observation MapOdomAlignment::observe(const PoseMeasurement& z
   // Z = T_MB T_OB^-1 (the chapter's measurement of T_MO).
   obs.R_MO = z.R_MB * odom.R_OB.inverse();
   obs.p_MO = z.p_MB - obs.R_MO.matrix() * odom.p_OB;
-  // Its covariance through the first-order error map derived in the header.
+  // Its covariance through the first-order error map derived in the header, computed as
+  // J_Q (C_z + B C_o B^T) J_Q^T with J_Q = [[I, 0], [[q]x, I]] and B = diag(R_MO, R_MO)
+  // (J_z = J_Q, J_o = -J_Q B), block by block: no 6x6 by 6x6 product.
   const Matrix3d R = obs.R_MO.matrix();
-  const Matrix3d q_hat = lie::hat3(Eigen::Vector3d(z.p_MB - obs.p_MO));  // [q]x, q = R_MO p_OB
-  Matrix6d J_z = Matrix6d::Identity();
-  J_z.block<3, 3>(3, 0) = q_hat;
-  obs.cov = J_z * z.cov * J_z.transpose();
+  const Matrix3d Q = lie::hat3(Eigen::Vector3d(z.p_MB - obs.p_MO));  // [q]x, q = R_MO p_OB
+  obs.cov = z.cov;
   if (include_odom_covariance) {
-    Matrix6d J_o = Matrix6d::Zero();
-    J_o.block<3, 3>(0, 0) = -R;
-    J_o.block<3, 3>(3, 0) = -q_hat * R;
-    J_o.block<3, 3>(3, 3) = -R;
-    obs.cov += J_o * odom.cov * J_o.transpose();
+    obs.cov.block<3, 3>(0, 0) += R * odom.cov.block<3, 3>(0, 0) * R.transpose();
+    obs.cov.block<3, 3>(0, 3) += R * odom.cov.block<3, 3>(0, 3) * R.transpose();
+    obs.cov.block<3, 3>(3, 0) += R * odom.cov.block<3, 3>(3, 0) * R.transpose();
+    obs.cov.block<3, 3>(3, 3) += R * odom.cov.block<3, 3>(3, 3) * R.transpose();
   }
+  obs.cov.bottomRows<3>() += Q * obs.cov.topRows<3>();              // J_Q C
+  obs.cov.rightCols<3>() += obs.cov.leftCols<3>() * Q.transpose();  // (J_Q C) J_Q^T
   obs.cov = 0.5 * (obs.cov + obs.cov.transpose()).eval();
   return obs;
 }

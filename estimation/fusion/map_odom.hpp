@@ -25,6 +25,7 @@
 //   dtheta_Z = a - R_MO alpha,   dp_Z = b - R_MO beta + [q]x (a - R_MO alpha),
 //   R_meas = J_z C_z J_z^T + J_o C_o J_o^T,
 //   J_z = [[I, 0], [[q]x, I]],   J_o = -[[R_MO, 0], [[q]x R_MO, R_MO]]   (Z's R_MO and q).
+// (J_o = -J_z diag(R_MO, R_MO), so R_meas = J_z (C_z + B C_o B^T) J_z^T, B = diag(R_MO, R_MO).)
 // The lever arm q turns an attitude error of either pose into a position error of T_MO that
 // grows with the distance from the odom origin. (include_odom_covariance = false leaves J_o C_o
 // J_o^T out: the odometry's absolute covariance is mostly its drift, correlated from one pose to
