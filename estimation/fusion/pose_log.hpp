@@ -13,8 +13,9 @@
 //   c44, c45,                         entries in [rad m]); it must be symmetric positive definite
 //   c55                               (the lower triangle is the mirror).
 //   valid                             1: use the pose; 0: the source flags it as unusable
-// Numbers as C's strtod reads them (no hex, no inf/nan: they are refused); spaces around fields
-// are allowed; LF, CR LF or CR line ends; a UTF-8 byte-order mark is skipped.
+// Numbers in decimal or exponent form (std::from_chars, a leading '+' allowed; no hex; inf and
+// nan refused); spaces around fields are allowed; LF, CR LF or CR line ends; a UTF-8 byte-order
+// mark is skipped.
 //
 // The reader (readPoseLog) refuses, with an io::LogError "file:line: column 'c': what was
 // expected": a wrong header, a row with the wrong number of fields, a field that is not a finite
@@ -22,8 +23,9 @@
 // 1e-6 (it is normalised otherwise), a covariance that is not positive definite, a valid flag
 // other than 0 or 1, a blank line inside the data, a file with no rows. It never returns part of a
 // file. The writer (writePoseLog) refuses the same poses (an error naming the pose's index and
-// field) and checks that every byte reached the file; it writes 17 significant digits, so a
-// written file reads back to the same numbers.
+// field) and checks that every byte reached the file; each number is the shortest text that reads
+// back as the same double (std::to_chars), so t, t_arrival, p and the covariance read back
+// exactly and the attitude, through its quaternion (written with qw >= 0), to 1e-15.
 #pragma once
 
 #include <istream>
