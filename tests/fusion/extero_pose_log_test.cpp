@@ -209,6 +209,16 @@ TEST_CASE("pose file: any bytes give poses or a LogError, never a crash", "[fusi
       const auto poses = parse(s);
       RC_ASSERT(!poses.empty());
       for (std::size_t k = 1; k < poses.size(); ++k) RC_ASSERT(poses[k].t > poses[k - 1].t);
+      // Whatever is accepted is written back and read again to the same poses.
+      const auto again = parse(text(poses));
+      RC_ASSERT(again.size() == poses.size());
+      for (std::size_t k = 0; k < poses.size(); ++k) {
+        RC_ASSERT(again[k].t == poses[k].t);
+        RC_ASSERT(again[k].p_MB == poses[k].p_MB);
+        RC_ASSERT(again[k].cov == poses[k].cov);
+        RC_ASSERT(again[k].valid == poses[k].valid);
+        RC_ASSERT((again[k].R_MB.matrix() - poses[k].R_MB.matrix()).cwiseAbs().maxCoeff() < 1e-15);
+      }
     } catch (const LogError&) {
     }
   };
