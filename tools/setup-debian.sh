@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(
   cmake g++ make ccache clang libclang-rt-14-dev
-  libeigen3-dev catch2 librapidcheck-dev libceres-dev libbenchmark-dev
+  libeigen3-dev catch2 librapidcheck-dev libceres-dev libgmock-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev libyaml-cpp-dev
   libmujoco-dev libqhull-dev libgl-dev
   python3-matplotlib python3-numpy
