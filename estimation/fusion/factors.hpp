@@ -2,9 +2,9 @@
 // each residual whitened by the square-root information of its own covariance, r = S e with
 // S^T S = Sigma^-1 (S = L^-1 for the Cholesky factor Sigma = L L^T).
 //
-// Parameter blocks follow fusion::Keyframe: a rotation R_WB is 9 doubles (column-major) moved by
-// lie::ceres::SO3Manifold, R <- R Exp(delta); the other blocks are Euclidean. Each factor derives
-// its Jacobians in the tangent delta (J_t) and hands Ceres the ambient ones through
+// Parameter blocks follow fusion::Keyframe: a rotation R_WB is 9 doubles (column-major), to be
+// moved by lie::ceres::SO3Manifold, R <- R Exp(delta); the other blocks are Euclidean. Each factor
+// derives its Jacobians in the tangent delta (J_t) and hands Ceres the ambient ones through
 // ambientJacobian. Ceres headers stay out of the filters' hot paths: only the smoother includes
 // this file.
 #pragma once
@@ -15,26 +15,18 @@
 #include "estimation/fusion/leg_preintegration.hpp"
 #include "estimation/fusion/pose_measurement.hpp"
 #include "estimation/imu/preintegration.hpp"
+#include "lie/ceres/manifolds.hpp"
 
 namespace legkit::fusion {
 
 // Tangent -> ambient Jacobian of a 9-number rotation block: J_a = J_t P(R)^T / 2, with
-// P(R) = d vec(R Exp(delta)) / d delta at 0 (column i = vec(R [e_i]_x), SO3Manifold's
-// PlusJacobian). P^T P = 2 I, so J_a P = J_t exactly. Row r of J_a is vec(R [J_t row r]_x)^T / 2.
+// P(R) = d vec(R Exp(delta)) / d delta at 0, SO3Manifold's PlusJacobian. P^T P = 2 I for a rotation
+// matrix, so J_a P = J_t exactly: Ceres, which multiplies by P, sees the tangent Jacobian.
 template <typename Derived>
 Eigen::Matrix<double, Derived::RowsAtCompileTime, 9, Eigen::RowMajor> ambientJacobian(
     const Eigen::MatrixBase<Derived>& J_t, const Eigen::Matrix3d& R) {
   static_assert(Derived::ColsAtCompileTime == 3, "a rotation's tangent Jacobian has 3 columns");
-  Eigen::Matrix<double, Derived::RowsAtCompileTime, 9, Eigen::RowMajor> J_a(J_t.rows(), 9);
-  for (Eigen::Index r = 0; r < J_t.rows(); ++r) {
-    const Eigen::Vector3d w = J_t.row(r).transpose();
-    Eigen::Matrix3d Rw;  // R [w]_x
-    Rw.col(0) = R * Eigen::Vector3d(0.0, w(2), -w(1));
-    Rw.col(1) = R * Eigen::Vector3d(-w(2), 0.0, w(0));
-    Rw.col(2) = R * Eigen::Vector3d(w(1), -w(0), 0.0);
-    J_a.row(r) = 0.5 * Eigen::Map<const Eigen::Matrix<double, 1, 9>>(Rw.data());
-  }
-  return J_a;
+  return 0.5 * J_t * lie::ceres::SO3Manifold::plusJacobian(R).transpose();
 }
 
 // IMU preintegration factor (Forster et al. 2017, eq. 45), keyframes i and j, the increments
