@@ -73,9 +73,11 @@ class FixedLagSmoother {
  public:
   struct Stats {
     int solves = 0;
-    double last_solve_s = 0.0;  // wall time of the last window solve [s]
-    int keyframes = 0;          // in the window now
-    int marginalised = 0;       // keyframes marginalised so far
+    double last_solve_s = 0.0;      // wall time of the last window solve [s]
+    double last_solve_cpu_s = 0.0;  // its CPU time on the solving thread [s]
+    int last_iterations = 0;        // its Levenberg-Marquardt iterations
+    int keyframes = 0;              // in the window now
+    int marginalised = 0;           // keyframes marginalised so far
     int poses_used = 0;
     int poses_rejected = 0;         // older than the window
     int poses_invalid = 0;          // flagged invalid by their source
