@@ -15,10 +15,12 @@
 //   MinusJacobian = d Log(X^-1 Y) / d vec(Y) at Y = X:
 //                   rotation rows vec(R [e_j]x)^T / 2, column blocks d rho_i / d c_i = R^T.
 // The rotation columns are orthogonal with squared norm tr([e_j]x^T [e_j]x) = 2, so
-// MinusJacobian * PlusJacobian = I exactly for an orthonormal R, and the tangent Jacobian of a
-// cost is recovered from its ambient one as J_t = J_a PlusJacobian
-// (RightMultiplyByPlusJacobian, written without forming PlusJacobian: row-wise
-// vee(R^T G - G^T R) for the 3x3 rotation part G of an ambient row, R^T g for a column part g).
+// MinusJacobian * PlusJacobian = I exactly for an orthonormal R. A cost function with a tangent
+// Jacobian J_t hands Ceres J_a = J_t MinusJacobian(X) (for SO3: J_t PlusJacobian^T / 2; the
+// static plusJacobian / minusJacobian give them as Eigen matrices), and Ceres gets back
+// J_a PlusJacobian = J_t (RightMultiplyByPlusJacobian, written without forming PlusJacobian:
+// row-wise vee(R^T G - G^T R) for the 3x3 rotation part G of an ambient row, R^T g for a column
+// part g).
 //
 // Minus accepts any finite ambient Y, not only exact rotations (Ceres's numeric checks step off
 // the manifold): R_X^T R_Y is projected onto SO(3) through its quaternion, which leaves a rotation
@@ -89,6 +91,11 @@ class SO3Manifold final : public ::ceres::Manifold {
     return detail::rotationPlusJacobian(R);
   }
 
+  // MinusJacobian(R) = PlusJacobian(R)^T / 2.
+  static Eigen::Matrix<double, kTangentSize, kAmbientSize> minusJacobian(const Eigen::Matrix3d& R) {
+    return 0.5 * plusJacobian(R).transpose();
+  }
+
   int AmbientSize() const override { return kAmbientSize; }
   int TangentSize() const override { return kTangentSize; }
 
@@ -129,7 +136,7 @@ class SO3Manifold final : public ::ceres::Manifold {
 
   bool MinusJacobian(const double* x, double* jacobian) const override {
     Eigen::Map<detail::RowMajor<kTangentSize, kAmbientSize>> J(jacobian);
-    J = 0.5 * plusJacobian(Eigen::Map<const Eigen::Matrix3d>(x)).transpose();
+    J = minusJacobian(Eigen::Map<const Eigen::Matrix3d>(x));
     return true;
   }
 };
