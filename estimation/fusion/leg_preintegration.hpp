@@ -17,8 +17,10 @@
 // Covariance: the error state (dphi, dp), dR_true = dR Exp(dphi), dp_true = dp + ddp, driven by
 // the gyro's white noise (ImuNoise::gyro_noise_density, sigma_g^2/dt per sample) and the legs'
 // per-sample velocity covariance Sigma_v,k (white, independent between samples: correlated leg
-// errors are what b_v is for). covariance() is the dp block; the correlation of dphi with the
-// IMU factor's rotation is not carried (the two factors are treated as independent).
+// errors are what b_v is for). Sigma_v is one sample's covariance: a continuous density q
+// [m/s/sqrt(Hz)] gives Sigma_v = q^2/dt, and then dp's covariance does not depend on the rate.
+// covariance() is the dp block; the correlation of dphi with the IMU factor's rotation is not
+// carried (the two factors are treated as independent).
 //
 // Fixed-size members only: integrate() does not allocate.
 #pragma once
