@@ -10,5 +10,5 @@ legkit_add_test(test_smoother_marginalization
 # old poses counted, Monte Carlo NEES of the newest keyframe, the legs' velocity bias.
 legkit_add_test(test_smoother_trot
   SOURCES ${CMAKE_CURRENT_SOURCE_DIR}/smoother_trot_test.cpp
-  LIBS legkit_fusion_smoother legkit_sim legkit_estimation
+  LIBS legkit_fusion_smoother legkit_fusion_extero legkit_sim legkit_estimation
   LABELS "fusion;57.8")
