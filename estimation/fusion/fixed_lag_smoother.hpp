@@ -16,8 +16,13 @@
 // between the two instants, from the propagated states it kept for every sample in the window
 // (R_k = R_z R(t_z)^T R(t_k), p_k = p_z - (p(t_z) - p(t_k)); that motion's own error, a
 // velocity error times at most keyframe_dt / 2, is not added to the pose's covariance). The
-// pose enters the next window solve. A pose older than the oldest keyframe in the window is
-// rejected and counted; so is one flagged invalid; one stamped after the newest sample throws.
+// pose enters the next window solve; one stamped more than half a keyframe interval after the
+// newest keyframe waits for the keyframe nearest it. A pose stamped more than half a keyframe
+// interval before the oldest keyframe in the window (or whose carrying motion has left the
+// history of the last window + 2 keyframe_dt of samples) is rejected and counted
+// (Stats::poses_rejected); one flagged invalid is counted (poses_invalid); one stamped after the
+// newest sample throws. Time gaps in the IMU stream are not handled (no restart: a caller with a
+// gap initialises again).
 //
 // Marginalisation. After each solve, while the window is longer than `window`, the oldest
 // keyframe is marginalised (estimation/fusion/marginalization.hpp): its factors are linearised at
