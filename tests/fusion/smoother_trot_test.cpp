@@ -144,6 +144,49 @@ TEST_CASE("the smoother tracks a simulated trot with poses, its window bounded",
   CHECK(e.tail<3>().norm() < 0.03);
 }
 
+TEST_CASE("poses stamped between keyframes are carried to the nearest one without a bias",
+          "[fusion][57.8]") {
+  // Every pose moved 45 ms before its tick with the same error (the truth of the earlier row):
+  // each is 45 ms from the keyframe nearest it. Attached there without carrying, the 0.5 m/s
+  // trot would put a 0.0225 m bias along x into every keyframe; carried by the smoother's own
+  // motion, the keyframes' mean error equals that of the same poses on the keyframes.
+  const Run on_keyframes = simulateRun(5, 5.0);
+  Run between = on_keyframes;
+  for (PoseMeasurement& z : between.poses) {
+    if (z.t < 0.05) continue;
+    const auto& at = rowAt(between, z.t);
+    const auto& before = rowAt(between, z.t - 0.045);
+    const lie::SO3d R_at = lie::SO3d::fromQuaternion(at.gt_q.normalized());
+    const lie::SO3d R_before = lie::SO3d::fromQuaternion(before.gt_q.normalized());
+    z.R_MB = z.R_MB * R_at.inverse() * R_before;
+    z.p_MB += before.gt_p - at.gt_p;
+    z.t = before.t;
+  }
+  const auto meanError = [](const Run& run, int* poses_used) {
+    Eigen::Matrix<double, 9, 1> mean = Eigen::Matrix<double, 9, 1>::Zero();
+    int samples = 0;
+    const FixedLagSmoother smoother =
+        replay(run, SmootherOptions{}, [&](const FixedLagSmoother& s) {
+          const EstimateSample x = s.keyframeEstimate();
+          if (x.t < 2.5) return;
+          mean += errorOf(x, rowAt(run, x.t));
+          ++samples;
+        });
+    REQUIRE(samples >= 24);
+    *poses_used = smoother.stats().poses_used;
+    return Eigen::Matrix<double, 9, 1>(mean / samples);
+  };
+  int used_on = 0, used_between = 0;
+  const Eigen::Matrix<double, 9, 1> e_on = meanError(on_keyframes, &used_on);
+  const Eigen::Matrix<double, 9, 1> e_between = meanError(between, &used_between);
+  INFO("mean keyframe errors, poses on the keyframes: " << e_on.transpose()
+                                                        << "; carried: " << e_between.transpose());
+  CHECK(used_between == static_cast<int>(between.poses.size()));
+  CHECK(used_on == used_between);
+  CHECK((e_between.tail<3>() - e_on.tail<3>()).norm() < 0.003);
+  CHECK((e_between.head<3>() - e_on.head<3>()).norm() < 0.001);
+}
+
 TEST_CASE("a pose older than the window is rejected and counted; invalid ones too",
           "[fusion][57.8]") {
   const Run run = simulateRun(2, 3.5);
