@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <limits>
 #include <random>
+#include <type_traits>
 #include <vector>
 
 #include <lie/ceres/manifolds.hpp>
@@ -168,7 +169,8 @@ TYPED_TEST(CeresManifold, WorstErrorsOfTheIdentities) {
       const TypeParam X = TypeParam::Exp(T::tangent(angle, scale, rng));
       const Ambient x = T::ambient(X);
       const Tangent d = T::tangent(step, scale, rng);
-      const Ambient y = T::ambient(TypeParam::Exp(T::tangent(kAngles[rng() % 11], scale, rng)));
+      const Ambient y =
+          T::ambient(TypeParam::Exp(T::tangent(kAngles[rng() % kAngles.size()], scale, rng)));
       Ambient xd, back;
       Tangent diff;
       ASSERT_TRUE(manifold.Plus(x.data(), d.data(), xd.data()));
