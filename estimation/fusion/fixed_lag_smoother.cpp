@@ -27,8 +27,9 @@ namespace legkit::fusion {
 
 namespace {
 
-void require(bool ok, const std::string& what) {
-  if (!ok) throw std::invalid_argument("FixedLagSmoother: " + what);
+// The message is built only on failure: a passing check does not allocate.
+void require(bool ok, const char* what) {
+  if (!ok) throw std::invalid_argument(std::string("FixedLagSmoother: ") + what);
 }
 
 bool positive(double x) {
@@ -380,8 +381,9 @@ void FixedLagSmoother::addPose(const PoseMeasurement& z) {
     return;
   }
   require(std::isfinite(z.t), "pose stamp must be finite");
-  require(z.t <= m.t_now + 1e-9, "pose stamped t = " + std::to_string(z.t) +
-                                     " after the newest sample t = " + std::to_string(m.t_now));
+  if (!(z.t <= m.t_now + 1e-9))
+    throw std::invalid_argument("FixedLagSmoother: pose stamped t = " + std::to_string(z.t) +
+                                " after the newest sample t = " + std::to_string(m.t_now));
   const PoseFactor check(z);  // throws for a non-finite pose or a covariance that is not SPD
   if (z.t < m.window.front().t - 0.5 * m.o.keyframe_dt) {
     ++m.stats.poses_rejected;

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "allocation_counter.hpp"
 #include "estimation/fusion/fixed_lag_smoother.hpp"
 #include "estimation/fusion/pose_simulator.hpp"
 #include "estimation/log_frontend.hpp"
@@ -264,6 +265,24 @@ TEST_CASE("the velocity bias converges to a bias injected into the leg velocitie
   off_options.velocity_bias = false;
   const FixedLagSmoother off = replay(run, off_options, [](const FixedLagSmoother&) {});
   CHECK(off.velocityBias().norm() == 0.0);
+}
+
+TEST_CASE("a step between keyframes does not allocate", "[fusion][57.8]") {
+  const Run run = simulateRun(6, 2.5);
+  FixedLagSmoother smoother;
+  smoother.initialise(truthAt(run.log.rows.front()));
+  long between_keyframes = 0;
+  int steps = 0;
+  for (const StepInput& in : run.inputs) {
+    const int solves = smoother.stats().solves;
+    const long before = legkit::test::allocationCount();
+    smoother.addStep(in);
+    if (smoother.stats().solves != solves) continue;  // a keyframe: Ceres allocates
+    between_keyframes += legkit::test::allocationCount() - before;
+    ++steps;
+  }
+  CHECK(steps > 2000);
+  CHECK(between_keyframes == 0);
 }
 
 TEST_CASE("bad options and calls before initialise are refused", "[fusion][57.8]") {
