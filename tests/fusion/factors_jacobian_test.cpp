@@ -13,10 +13,7 @@
 #include "lie/ceres/manifolds.hpp"
 #include "lie/so3.hpp"
 
-// Ceres pulls in glog, whose CHECK(condition) replaces Catch's CHECK: restore Catch's.
-#undef CHECK
-#define CHECK(...) \
-  INTERNAL_CATCH_TEST("CHECK", Catch::ResultDisposition::ContinueOnFailure, __VA_ARGS__)
+#include "ceres_catch.hpp"  // after Ceres: Catch's CHECK, not glog's
 
 using Eigen::Matrix3d;
 using Eigen::Vector3d;

@@ -13,10 +13,7 @@
 
 #include "estimation/fusion/marginalization.hpp"
 
-// glog (included by Ceres) redefines CHECK as an abort: give Catch's back.
-#undef CHECK
-#define CHECK(...) \
-  INTERNAL_CATCH_TEST("CHECK", Catch::ResultDisposition::ContinueOnFailure, __VA_ARGS__)
+#include "ceres_catch.hpp"  // after Ceres: Catch's CHECK, not glog's
 
 namespace {
 
