@@ -90,7 +90,10 @@ void requireParam(bool ok, const char* what) {
 
 }  // namespace
 
-Eskf::Eskf(const EskfParams& params) : params_(params), gate_(params.gating, "Eskf") {
+Eskf::Eskf(const EskfParams& params)
+    : params_(params),
+      gate_(params.gating, "Eskf"),
+      pose_gate_(fusion::poseGateThreshold(params.gating)) {
   nominal::checkImuNoise(params.imu, "Eskf", false);  // zero random walk: a constant bias
   requireParam(params.foot_stance_density >= 0.0 && std::isfinite(params.foot_stance_density),
                "foot_stance_density must be finite and non-negative");
@@ -226,6 +229,47 @@ Eskf::Update Eskf::updateFoot(int i, const ContactMeasurement& c, double t, Vect
   A.noalias() += B.lazyProduct(K.transpose());
   P_ = 0.5 * (A + A.transpose());
   return Update::kDone;
+}
+
+fusion::PoseUpdate Eskf::updatePose(const fusion::PoseMeasurement& z) {
+  fusion::checkPoseMeasurement(z, "Eskf");
+  if (!z.valid) return fusion::PoseUpdate::kNotValid;
+  using Matrix6 = Eigen::Matrix<double, 6, 6>;
+  using Vector6 = Eigen::Matrix<double, 6, 1>;
+  using Matrix27x6 = Eigen::Matrix<double, kDim, 6>;
+  const Matrix3& R = x_.R.matrix();
+  // r = (Log(R_m R_hat^T), p_m - p_hat), H = [R_hat (dtheta); I (dp)] (file comment).
+  Vector6 r;
+  r << lie::SO3d::fromQuaternion(Eigen::Quaterniond(z.R_MB.matrix() * R.transpose())).Log(),
+      z.p_MB - x_.p;
+  Matrix27x6 PHt;  // P H^T
+  PHt.leftCols<3>().noalias() = P_.middleCols<3>(kTheta).lazyProduct(R.transpose());
+  PHt.rightCols<3>() = P_.middleCols<3>(kP);
+  Matrix6 S = z.cov;  // S = H P H^T + N
+  S.topRows<3>().noalias() += R.lazyProduct(PHt.middleRows<3>(kTheta));
+  S.bottomRows<3>() += PHt.middleRows<3>(kP);
+  const Eigen::LLT<Matrix6> llt(S);
+  if (llt.info() != Eigen::Success) {
+    health_.record(Fault::kUpdateFailed, z.t);
+    return fusion::PoseUpdate::kFailed;
+  }
+  // d^2 = r^T S^-1 r = |L^-1 r|^2 against the 6-dof gate
+  if (params_.gating.enabled && llt.matrixL().solve(r).squaredNorm() > pose_gate_) {
+    health_.record(Fault::kGated, z.t);
+    return fusion::PoseUpdate::kGated;
+  }
+  const Matrix27x6 K = PHt.lazyProduct(llt.solve(Matrix6::Identity()));
+  const Vector27 dx = K * r;
+  // Joseph form as for a foot: A = P - K (P H^T)^T, P = A + (K N - A H^T) K^T.
+  Matrix27 A = P_;
+  A.noalias() -= K.lazyProduct(PHt.transpose());
+  Matrix27x6 B = K.lazyProduct(z.cov);
+  B.leftCols<3>().noalias() -= A.middleCols<3>(kTheta).lazyProduct(R.transpose());
+  B.rightCols<3>() -= A.middleCols<3>(kP);
+  A.noalias() += B.lazyProduct(K.transpose());
+  P_ = 0.5 * (A + A.transpose());
+  inject(dx);
+  return fusion::PoseUpdate::kUsed;
 }
 
 void Eskf::inject(const Vector27& dx) {

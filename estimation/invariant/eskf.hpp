@@ -69,6 +69,14 @@
 // consecutive samples is a measurement. At reset the feet are unknown (weak prior
 // foot_init_sigma) and every foot is out of contact.
 //
+// Pose update (section 57.8, "pose injection": the map is this filter's world frame). A pose z =
+// (R_m, p_m) in the world with noise (n_theta, n_p) ~ N(0, z.cov), R_m = Exp(n_theta) R,
+// p_m = p + n_p. With R = R_hat Exp(dtheta) = Exp(R_hat dtheta) R_hat, the residual
+//   r = (Log(R_m R_hat^T), p_m - p_hat) = (R_hat dtheta, dp) + n   (to first order),
+//   H = [R_hat (dtheta); I (dp)], zero elsewhere,
+// updated in Joseph form and injected as the feet are. Gated (when gating is on) by
+// d^2 = r^T S^-1 r against the chi-square quantile of 6 dof (Fault::kGated).
+//
 // covariance() maps the local attitude error to the kit's world-frame convention:
 // R = R_hat Exp(dtheta) = Exp(R_hat dtheta) R_hat, so dtheta_w = R_hat dtheta; v and p are
 // additive in both.
@@ -83,6 +91,8 @@
 #include "estimation/engineering/gating.hpp"
 #include "estimation/estimator.hpp"
 #include "estimation/foot_slots.hpp"
+#include "estimation/fusion/delayed_pose.hpp"
+#include "estimation/fusion/pose_measurement.hpp"
 #include "estimation/invariant/nominal_state.hpp"
 #include "lie/so3.hpp"
 #include "model/imu_model.hpp"
@@ -150,6 +160,12 @@ class Eskf final : public Estimator {
   EstimateSample estimate() const override;
   // The (dtheta_w, dv, dp) block of P with the attitude error mapped to the world frame.
   std::optional<BaseCovariance> covariance() const override;
+  // The pose z (world = map frame) as a measurement of the base pose, applied to the current
+  // state whatever z.t (DelayedFilter applies it at its stamp). File comment: "Pose update".
+  // Throws std::invalid_argument naming the field and z.t for a non-finite pose or a covariance
+  // that is not symmetric positive definite, before anything changes; kNotValid, kGated, kFailed
+  // change nothing but the health record.
+  fusion::PoseUpdate updatePose(const fusion::PoseMeasurement& z);
 
   const eskf::State& state() const { return x_; }
   const eskf::Matrix27& P() const { return P_; }
@@ -166,6 +182,7 @@ class Eskf final : public Estimator {
 
   EskfParams params_;
   engineering::FootGate gate_;
+  double pose_gate_;  // chi-square quantile of 6 dof for the pose innovation (file comment)
   FootSlots<eskf::kFeet> slots_;  // foot ids of the log -> this filter's foot states
   eskf::State x_;
   eskf::Matrix27 P_ = eskf::Matrix27::Identity();  // covariance of the error dx

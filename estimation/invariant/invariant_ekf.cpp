@@ -112,7 +112,9 @@ InvariantEkfParams InvariantEkfParams::hartleyExample() {
 }
 
 InvariantEkf::InvariantEkf(const InvariantEkfParams& params)
-    : params_(params), gate_(params.gating, "InvariantEkf") {
+    : params_(params),
+      gate_(params.gating, "InvariantEkf"),
+      pose_gate_(fusion::poseGateThreshold(params.gating)) {
   const model::ImuNoise& n = params.imu;
   const auto nonNegative = [](double x) { return std::isfinite(x) && x >= 0.0; };
   const auto positive = [](double x) { return std::isfinite(x) && x > 0.0; };
@@ -356,6 +358,62 @@ void InvariantEkf::correctHeldFeet(const StepInput& in) {
   X_ = Group::Exp(Group::Tangent(delta.template head<Nav>())) * X_;  // X_hat <- Exp(delta) X_hat
   b_g_ += delta.template segment<3>(Nav);
   b_a_ += delta.template segment<3>(Nav + 3);
+}
+
+fusion::PoseUpdate InvariantEkf::updatePose(const fusion::PoseMeasurement& z) {
+  fusion::checkPoseMeasurement(z, "InvariantEkf");
+  if (!z.valid) return fusion::PoseUpdate::kNotValid;
+  fusion::PoseUpdate result = fusion::PoseUpdate::kFailed;
+  withFeet(numFeet(), [&](auto feet) { result = correctPose<decltype(feet)::value>(z); });
+  return result;
+}
+
+template <int Feet>
+fusion::PoseUpdate InvariantEkf::correctPose(const fusion::PoseMeasurement& z) {
+  constexpr int Nav = 9 + 3 * Feet;
+  constexpr int D = Nav + 6;
+  using Matrix6 = Eigen::Matrix<double, 6, 6>;
+  using Vector6 = Eigen::Matrix<double, 6, 1>;
+  Eigen::Map<Eigen::Matrix<double, D, D>> P(P_.data());
+  const Matrix3& R = X_.R();
+  const Vector3 p = X_.col(1);
+  // r = Log(T_m T_hat^-1): T_m T_hat^-1 = (R_m R_hat^T, p_m - R_m R_hat^T p_hat) (file comment).
+  const lie::SO3d dR =
+      lie::SO3d::fromQuaternion(Eigen::Quaterniond(z.R_MB.matrix() * R.transpose()));
+  const Vector3 phi = dR.Log();
+  Vector6 r;
+  r << phi, lie::SO3d::JlInv(phi) * (z.p_MB - dR.matrix() * p);
+  // N' = A N A^T, A = [[I, 0], [[p_hat]_x, I]]: the pose noise in the variables of r.
+  const Matrix3 p_x = lie::hat3(p);
+  Matrix6 N = z.cov;
+  N.template bottomRows<3>().noalias() += p_x.lazyProduct(z.cov.template topRows<3>());
+  N.template rightCols<3>() += N.template leftCols<3>().lazyProduct(p_x.transpose()).eval();
+  // H = [I (phi), 0, I (rho_p), 0, ..]: U = P H^T = (P_phi, P_rho_p), S = H U + N'.
+  Eigen::Matrix<double, D, 6> U;
+  U.template leftCols<3>() = P.template leftCols<3>();
+  U.template rightCols<3>() = P.template middleCols<3>(6);
+  Matrix6 S = N;
+  S.template topRows<3>() += U.template topRows<3>();
+  S.template bottomRows<3>() += U.template middleRows<3>(6);
+  // S = C C^T, K = U S^-1 = W C^-1 with W = U C^-T (as for a foot).
+  const Eigen::LLT<Matrix6> llt(S);
+  if (llt.info() != Eigen::Success) {
+    health_.record(Fault::kUpdateFailed, z.t);
+    return fusion::PoseUpdate::kFailed;
+  }
+  const Matrix6 C_inv = llt.matrixL().solve(Matrix6::Identity());
+  const Vector6 r_white = C_inv * r;  // d^2 = r^T S^-1 r = |C^-1 r|^2
+  if (params_.gating.enabled && r_white.squaredNorm() > pose_gate_) {
+    health_.record(Fault::kGated, z.t);
+    return fusion::PoseUpdate::kGated;
+  }
+  const Eigen::Matrix<double, D, 6> W = U * C_inv.transpose();
+  const Eigen::Matrix<double, D, 1> delta = W * r_white;
+  P -= W.lazyProduct(W.transpose());
+  X_ = Group::Exp(Group::Tangent(delta.template head<Nav>())) * X_;  // X_hat <- Exp(delta) X_hat
+  b_g_ += delta.template segment<3>(Nav);
+  b_a_ += delta.template segment<3>(Nav + 3);
+  return fusion::PoseUpdate::kUsed;
 }
 
 void InvariantEkf::removeFoot(int foot) {

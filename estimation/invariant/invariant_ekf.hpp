@@ -73,6 +73,23 @@
 // exactly). This filter holds no swing feet, so sigma_swing (foot_swing_density) serves only
 // there.
 //
+// Pose update (section 57.8, "pose injection": the map is this filter's world frame). A pose z =
+// (R_m, p_m) in the world with noise (n_theta, n_p) ~ N(0, z.cov), R_m = Exp(n_theta) R,
+// p_m = p + n_p, observes the group from the world side, Y = X b: a left-invariant observation,
+// for which a right-invariant filter has no estimate-free Jacobian in the measurement's own
+// coordinates (there H = [[I, 0, 0], [-[p_hat]_x, 0, I]], and the mapping of xi to the world
+// error is nonlinear in phi times the distance from the origin). The filter instead changes the
+// noise's variables: with T = (R, p) the pose part of X and delta = -xi,
+//   T = Exp(delta) T_hat,  T_m = Exp(n') T   =>   r = Log(T_m T_hat^-1) = delta_pose + n'
+// to first order in (delta, n') (SE(3) Log, tangent (phi, rho)), so H = [I (phi), 0, I (rho_p),
+// 0, ..] is constant, and n' = (n_theta, n_p + [p]_x n_theta) (Exp(n') T's position is
+// p + n_rho - [p]_x n_theta), N' = A z.cov A^T with A = [[I, 0], [[p_hat]_x, I]]: the adjoint
+// at the position. The lever arm [p_hat]_x now sits in the noise, where it is exact to first order
+// in the small n_theta. Then K = P H^T S^-1, X_hat <- Exp(delta_xi) X_hat as at a foot
+// correction. tests/fusion/delayed_pose_test.cpp checks the NEES after pose updates 36 m from the
+// origin. Gated (when gating is on) by d^2 = r^T S^-1 r against the chi-square quantile of 6 dof
+// (Fault::kGated).
+//
 // covariance() maps xi to the kit's convention (R = Exp(dtheta) R_hat, v = v_hat + dv,
 // p = p_hat + dp) to first order: dtheta = -phi, dv = -(rho_v - [v_hat]_x phi),
 // dp = -(rho_p - [p_hat]_x phi).
@@ -85,6 +102,8 @@
 #include "estimation/engineering/gating.hpp"
 #include "estimation/estimator.hpp"
 #include "estimation/foot_slots.hpp"
+#include "estimation/fusion/delayed_pose.hpp"
+#include "estimation/fusion/pose_measurement.hpp"
 #include "lie/sek3.hpp"
 #include "model/imu_model.hpp"
 #include "model/imu_noise.hpp"
@@ -187,6 +206,12 @@ class InvariantEkf final : public Estimator {
   EstimateSample estimate() const override;
   // The (dtheta, dv, dp) block in the BaseCovariance convention (file comment).
   std::optional<BaseCovariance> covariance() const override;
+  // The pose z (world = map frame) as a measurement of X's pose, applied to the current state
+  // whatever z.t (DelayedFilter applies it at its stamp). File comment: "Pose update". Throws
+  // std::invalid_argument naming the field and z.t for a non-finite pose or a covariance that is
+  // not symmetric positive definite, before anything changes; kNotValid, kGated, kFailed change
+  // nothing but the health record.
+  fusion::PoseUpdate updatePose(const fusion::PoseMeasurement& z);
 
   const Group& X() const { return X_; }
   const Eigen::Vector3d& b_g() const { return b_g_; }
@@ -206,6 +231,8 @@ class InvariantEkf final : public Estimator {
   void propagateCovariance(const inekf::Transition& Phi, double dt);
   template <int Feet>
   void correctHeldFeet(const StepInput& in);
+  template <int Feet>
+  fusion::PoseUpdate correctPose(const fusion::PoseMeasurement& z);
   // The (xi_R, xi_v, xi_p) block of P from the kit-convention prior sigmas at x0 (reset()).
   void setNavigationPrior(const EstimateSample& x0, const Eigen::Vector3d& sigma_attitude);
   void removeFoot(int foot);
@@ -215,6 +242,7 @@ class InvariantEkf final : public Estimator {
 
   InvariantEkfParams params_;
   engineering::FootGate gate_;
+  double pose_gate_;  // chi-square quantile of 6 dof for the pose innovation (file comment)
   std::array<bool, inekf::kMaxFeet> replace_{};  // gated too long: re-added after the correction
   FootSlots<inekf::kMaxFeet> slots_;  // foot ids of the log -> this filter's foot columns
   Group X_{2};
