@@ -79,11 +79,15 @@ class SEK3 {
       throw NotInGroup(os.str());
     }
     if (!M.allFinite()) throw NotInGroup("SEK3::fromMatrix: matrix has a NaN or inf entry");
+    using std::abs;
     const auto bottom = M.bottomRows(k);
     Scalar bottomError(0);
-    for (Eigen::Index r = 0; r < k; ++r)
-      for (Eigen::Index j = 0; j < 3 + k; ++j)
-        bottomError = std::max(bottomError, std::abs(bottom(r, j) - Scalar(j == 3 + r ? 1 : 0)));
+    for (Eigen::Index r = 0; r < k; ++r) {
+      for (Eigen::Index j = 0; j < 3 + k; ++j) {
+        const Scalar error = abs(bottom(r, j) - Scalar(j == 3 + r ? 1 : 0));
+        if (bottomError < error) bottomError = error;  // std::max, for autodiff scalars too
+      }
+    }
     if (!(bottomError <= tol)) {
       std::ostringstream os;
       os << "SEK3::fromMatrix: the last " << k << " rows must be [0 | I] (max error " << bottomError

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <random>
 #include <sstream>
+#include <type_traits>
 
 #include "lie/errors.hpp"
 #include "lie/so3_series.hpp"
@@ -41,9 +42,12 @@ Matrix3<typename Derived::Scalar> hat3(const Eigen::MatrixBase<Derived>& v) {
 
 // d I + alpha [phi] + beta [phi]^2, built entrywise from [phi]^2 = phi phi^T - theta^2 I: every
 // closed form in lie/ is of this shape, and no 3x3 product is needed to evaluate one.
+// Scalar is deduced from phi alone: the coefficients may be expressions of it (an
+// Eigen::AutoDiffScalar product is its own type) and convert on the way in.
 template <typename Scalar>
-Matrix3<Scalar> skewSeries(const Vector3<Scalar>& phi, Scalar theta2, Scalar d, Scalar alpha,
-                           Scalar beta) {
+Matrix3<Scalar> skewSeries(const Vector3<Scalar>& phi, detail::NonDeduced<Scalar> theta2,
+                           detail::NonDeduced<Scalar> d, detail::NonDeduced<Scalar> alpha,
+                           detail::NonDeduced<Scalar> beta) {
   const Scalar diag = d - beta * theta2;
   const Scalar xy = beta * phi(0) * phi(1), xz = beta * phi(0) * phi(2),
                yz = beta * phi(1) * phi(2);
@@ -171,12 +175,30 @@ class SO3 {
     return (R_ - other.R_).cwiseAbs().maxCoeff() <= tol;
   }
 
-  // The nearest rotation matrix in the Frobenius norm (removes accumulated rounding drift).
+  // The nearest rotation matrix in the Frobenius norm (removes accumulated rounding drift): the
+  // orthogonal factor U V^T of the SVD. Eigen's SVD takes no autodiff scalar, so for those the
+  // same polar factor comes from Newton's iteration Q <- (Q + Q^-T)/2 (Higham), quadratic from a
+  // near-rotation: kPolarIterations steps take a drift of 0.1 below rounding. Q^-T is the
+  // cofactor matrix over the determinant, columns (q1 x q2, q2 x q0, q0 x q1) / det Q.
   SO3 normalized() const {
-    Eigen::JacobiSVD<Matrix> svd(R_, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Matrix U = svd.matrixU();
-    if ((U * svd.matrixV().transpose()).determinant() < Scalar(0)) U.col(2) *= Scalar(-1);
-    return SO3(U * svd.matrixV().transpose(), Unchecked{});
+    if constexpr (std::is_floating_point_v<Scalar>) {
+      Eigen::JacobiSVD<Matrix> svd(R_, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      Matrix U = svd.matrixU();
+      if ((U * svd.matrixV().transpose()).determinant() < Scalar(0)) U.col(2) *= Scalar(-1);
+      return SO3(U * svd.matrixV().transpose(), Unchecked{});
+    } else {
+      constexpr int kPolarIterations = 6;
+      Matrix Q = R_;
+      for (int i = 0; i < kPolarIterations; ++i) {
+        Matrix cofactor;
+        cofactor.col(0) = Q.col(1).cross(Q.col(2));
+        cofactor.col(1) = Q.col(2).cross(Q.col(0));
+        cofactor.col(2) = Q.col(0).cross(Q.col(1));
+        const Scalar det = Q.col(0).dot(cofactor.col(0));
+        Q = (Q + cofactor / det) / Scalar(2);
+      }
+      return SO3(Q, Unchecked{});
+    }
   }
 
   // Building blocks shared with SE_K(3), which reuses one AngleSeries per operation ------
@@ -199,29 +221,35 @@ class SO3 {
   // (R + R^T)/2 - c I = (1 - c) u u^T with the largest diagonal entry, signed to agree with s.
   // Optionally hands back the AngleSeries of theta, built from sin theta and cos theta.
   static Tangent logOfMatrix(const Matrix& R, AngleSeries<Scalar>* series = nullptr) {
+    using std::abs;
     using std::asin;
     using std::sqrt;
-    constexpr Scalar pi = Scalar(3.141592653589793238462643383279502884L);
+    const Scalar pi(3.141592653589793238462643383279502884L), halfPi = pi / Scalar(2);
     const Scalar c = (R(0, 0) + R(1, 1) + R(2, 2) - Scalar(1)) / Scalar(2);
     const Tangent s = Tangent(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1)) / Scalar(2);
-    const Scalar n = sqrt(s.squaredNorm());              // sin theta
-    const bool nearAxis = n < (c < Scalar(0) ? -c : c);  // theta within pi/4 of 0 or of pi
+    // sin theta. At R = I it is 0 and so is its derivative: sqrt(0) would give an autodiff
+    // scalar an infinite one, hence the guard (with phi = s below, d phi = d s there).
+    const Scalar n2 = s.squaredNorm();
+    const Scalar n = n2 > Scalar(0) ? Scalar(sqrt(n2)) : Scalar(0);
+    const bool nearAxis = n < abs(c);  // theta within pi/4 of 0 or of pi
     const Scalar a = asin(nearAxis ? n : c);
-    const Scalar theta = nearAxis ? (c > Scalar(0) ? a : pi - a) : pi / Scalar(2) - a;
+    const Scalar theta = nearAxis ? (c > Scalar(0) ? a : Scalar(pi - a)) : Scalar(halfPi - a);
     if (series) *series = AngleSeries<Scalar>(theta, n, c);
-    if (c >= kNearPiCos) return (n > Scalar(0) ? theta / n : Scalar(1)) * s;  // theta/sin theta
+    if (c >= kNearPiCos)
+      return (n > Scalar(0) ? Scalar(theta / n) : Scalar(1)) * s;  // theta/sin theta
     // Column i of the symmetric part, i the largest diagonal entry: (1 - c) u_i u.
     int i = R(1, 1) > R(0, 0) ? 1 : 0;
     if (R(2, 2) > R(i, i)) i = 2;
     Tangent axis = (R.col(i) + R.row(i).transpose()) / Scalar(2);
     axis(i) -= c;
-    const Scalar norm = axis.dot(s) < Scalar(0) ? -axis.norm() : axis.norm();
+    const Scalar axisNorm = axis.norm();
+    const Scalar norm = axis.dot(s) < Scalar(0) ? Scalar(-axisNorm) : axisNorm;
     return (theta / norm) * axis;
   }
 
   // cos theta below which Log takes the axis from the symmetric part (theta > 2.69): there the
   // rounding of s, divided by sin theta < 0.44, would cost more than a few ulp of phi.
-  static constexpr Scalar kNearPiCos = Scalar(-0.9);
+  static constexpr double kNearPiCos = -0.9;
 
  private:
   template <typename, int, int>

@@ -32,6 +32,14 @@ namespace lie {
 
 namespace detail {
 
+// T in a parameter list without deducing it from that argument (std::type_identity of C++20).
+template <typename T>
+struct TypeIdentity {
+  using type = T;
+};
+template <typename T>
+using NonDeduced = typename TypeIdentity<T>::type;
+
 constexpr long double factorial(int n) {
   return n <= 1 ? 1.0L : n * factorial(n - 1);
 }
@@ -82,7 +90,7 @@ class AngleSeries {
       g1_ = sincH * cosH;               // sin(2h)/2h = sinc(h) cos h
       g2_ = sincH * sincH / Scalar(2);  // (1 - cos 2h)/4h^2 = 2 sin^2(h)/4h^2
     } else {
-      const Scalar theta = sqrt(x_), s = sin(theta / 2), c = cos(theta / 2);
+      const Scalar theta = sqrt(x_), s = sin(theta / Scalar(2)), c = cos(theta / Scalar(2));
       g1_ = Scalar(2) * s * c / theta;  // sin(theta)/theta
       g2_ = Scalar(2) * s * s / x_;     // (1 - cos theta)/theta^2
     }
@@ -95,8 +103,9 @@ class AngleSeries {
       g1_ = Scalar(1) - x_ / Scalar(6);
       g2_ = Scalar(0.5) - x_ / Scalar(24);
     } else {
-      const Scalar oneMinusCos = cosTheta > Scalar(0) ? sinTheta * sinTheta / (Scalar(1) + cosTheta)
-                                                      : Scalar(1) - cosTheta;
+      const Scalar oneMinusCos = cosTheta > Scalar(0)
+                                     ? Scalar(sinTheta * sinTheta / (Scalar(1) + cosTheta))
+                                     : Scalar(Scalar(1) - cosTheta);
       g1_ = sinTheta / theta;
       g2_ = oneMinusCos / x_;
     }
@@ -118,7 +127,10 @@ class AngleSeries {
       constexpr int terms = m == 3 ? 8 : m == 4 ? 9 : 11;
       static constexpr auto coefficients = detail::gCoefficients<m, terms>();
       if (x_ < switchX) return detail::alternatingSeries(x_, coefficients);
-      return (Scalar(1) / Scalar(detail::factorial(m - 2)) - G<m - 2>()) / x_;
+      // 1/(m-2)! as a Scalar of its own: with Eigen::AutoDiffScalar<VectorXd> an expression of
+      // two constants (empty derivative vectors) cannot be resized to meet a variable.
+      const Scalar inverseFactorial = Scalar(1) / Scalar(detail::factorial(m - 2));
+      return (inverseFactorial - G<m - 2>()) / x_;
     }
   }
 
