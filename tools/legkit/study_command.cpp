@@ -20,6 +20,7 @@
 #include "eval/runner.hpp"
 #include "output.hpp"
 #include "study_filters.hpp"
+#include "study_fusion.hpp"
 
 namespace legkit::tools {
 namespace {
@@ -51,6 +52,7 @@ StudyCommand::StudyCommand(CLI::App& app)
       contact_(*command_),
       faults_(*command_) {
   command_->require_subcommand(1);
+  addStudyFusion(*command_);  // `study fusion` (57.8): its options live in its subcommand
   consistency_ = command_->add_subcommand(
       "consistency", "ANEES of every filter over runs of the default trot (section 57.5)");
   convergence_ = command_->add_subcommand(
@@ -71,6 +73,9 @@ StudyCommand::StudyCommand(CLI::App& app)
 int StudyCommand::run(std::ostream& out) const {
   if (contact_.parsed()) return contact_.run(out);
   if (faults_.parsed()) return faults_.run(out);
+  if (const CLI::App* fusion = command_->get_subcommand("fusion"); fusion->parsed()) {
+    return runStudyFusion(*fusion, out);
+  }
   try {
     if (*consistency_) return consistency(out);
     if (*convergence_) return convergence(out);
