@@ -1,1 +1,5 @@
-# (owner: study)
+# Section 57.8 (owner: study): the loose pose update (MapOdomAlignment::update) and the odometry
+# history's lookup at a pose's stamp.
+add_executable(bench_fusion bench_fusion.cpp)
+target_link_libraries(bench_fusion PRIVATE legkit_fusion_extero legkit_invariant_ekf legkit_sim
+                                           benchmark::benchmark_main)
