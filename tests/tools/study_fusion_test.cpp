@@ -58,12 +58,16 @@ TEST_CASE("study fusion --quick: table, summary.json and trace written, every fi
     }
     CHECK(c.at("ate_m").get<double>() >= 0.0);
   }
-  REQUIRE(names.size() >= 2);
+  REQUIRE(names.size() >= 3);
   CHECK(names[0] == "proprio");
   CHECK(names[1] == "loose");
   // Poses every 0.1 s bound the drift: loose coupling beats proprioception alone in ATE.
   CHECK(couplings[1].at("ate_m").get<double>() < couplings[0].at("ate_m").get<double>());
   CHECK(couplings[1].at("poses_used").get<int>() > 200);  // of about 300
+  // Pose injection (DelayedFilter): every pose applied at its stamp, also ahead of proprioception.
+  CHECK(names[2] == "injection");
+  CHECK(couplings[2].at("poses_used").get<int>() > 200);
+  CHECK(couplings[2].at("ate_m").get<double>() < couplings[0].at("ate_m").get<double>());
 
   // The trace: one row per 0.1 s, four columns per coupling, every cell a finite number.
   std::ifstream trace(dir.path / "out" / "fusion-trace.csv");
