@@ -1,9 +1,9 @@
 # `legkit study fusion` (section 57.8): proprioception alone against exteroceptive fusion on a long
-# physics trot with simulated SLAM poses (loose coupling: extero; pose injection: delayed). Owner:
+# physics trot with simulated SLAM poses (loose coupling: extero; pose injection: delayed; the smoother). Owner:
 # study.
 target_sources(legkit PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/legkit/study_fusion.cpp)
 target_link_libraries(legkit PRIVATE legkit_contact_pipeline legkit_contact_training legkit_fusion_extero
-                                     legkit_fusion_delayed)
+                                     legkit_fusion_delayed legkit_fusion_smoother)
 
 # Its test runs the built program (--quick). tests/ is configured after tools/, so the test is
 # registered once the top directory is done, when legkit_add_test exists; the packages tests/ found

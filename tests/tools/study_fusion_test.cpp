@@ -58,7 +58,7 @@ TEST_CASE("study fusion --quick: table, summary.json and trace written, every fi
     }
     CHECK(c.at("ate_m").get<double>() >= 0.0);
   }
-  REQUIRE(names.size() >= 3);
+  REQUIRE(names.size() >= 4);
   CHECK(names[0] == "proprio");
   CHECK(names[1] == "loose");
   // Poses every 0.1 s bound the drift: loose coupling beats proprioception alone in ATE.
@@ -68,6 +68,9 @@ TEST_CASE("study fusion --quick: table, summary.json and trace written, every fi
   CHECK(names[2] == "injection");
   CHECK(couplings[2].at("poses_used").get<int>() > 200);
   CHECK(couplings[2].at("ate_m").get<double>() < couplings[0].at("ate_m").get<double>());
+  // The fixed-lag smoother: every pose attached (none older than its 2 s window).
+  CHECK(names[3] == "smoother");
+  CHECK(couplings[3].at("poses_used").get<int>() > 200);
 
   // The trace: one row per 0.1 s, four columns per coupling, every cell a finite number.
   std::ifstream trace(dir.path / "out" / "fusion-trace.csv");

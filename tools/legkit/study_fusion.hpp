@@ -8,6 +8,9 @@
 //   loose      map pose = T_MO T_OB, T_MO from fusion::MapOdomAlignment (the odometry untouched)
 //   injection  the poses as updates of a second InEKF whose world is the map, each applied at its
 //              stamp and the inputs since re-run (fusion::DelayedFilter)
+//   smoother   fusion::FixedLagSmoother (Ceres: 2 s window, keyframes every 0.1 s, IMU,
+//   leg-odometry,
+//              bias-walk and pose factors, the leg-velocity bias)
 // Metrics against the truth: ATE, RPE over 10 m, the yaw error at the end, the position error
 // through the corridor and around the loop closure. Writes to --out: fusion-trace.csv (10 Hz
 // time series), fusion-poses.csv (the simulated poses), summary.json, and the figures of
