@@ -6,6 +6,10 @@
 //   BM_DelayedPose     DelayedFilter<InvariantEkf>::updatePose with a pose 80 ms old: the update
 //                      at its stamp and the re-propagation of the 80 samples since (1 kHz); the
 //                      filter with its 0.5 s of history is restored (untimed) before each call
+//   BM_SmootherWindow  FixedLagSmoother: 0.1 s of input (100 samples at 1 kHz, the poses that
+//                      arrived), i.e. one new keyframe and its window solve (2 s window, default
+//                      options); restarted (untimed) when the 10 s run is used up, timed only
+//                      once the window is full
 //
 // The data: 10 s of the default analytic trot (seed 1), the InEKF (default parameters) run over
 // it for the odometry poses and covariances, the simulated SLAM poses of that truth
@@ -18,6 +22,7 @@
 #include <vector>
 
 #include "estimation/fusion/delayed_filter.hpp"
+#include "estimation/fusion/fixed_lag_smoother.hpp"
 #include "estimation/fusion/map_odom.hpp"
 #include "estimation/fusion/odom_history.hpp"
 #include "estimation/fusion/pose_simulator.hpp"
@@ -130,5 +135,43 @@ void BM_DelayedPose(benchmark::State& state) {
   state.counters["used"] = static_cast<double>(filter.stats().used);
 }
 BENCHMARK(BM_DelayedPose);
+
+void BM_SmootherWindow(benchmark::State& state) {
+  const Setup& s = setup();
+  constexpr std::size_t kPerKeyframe = 100, kFull = 2100;  // samples: 0.1 s; past the 2 s window
+  const io::LogRow& first = s.log.rows.front();
+  const InitialState x0{{first.t, first.gt_q, first.gt_v, first.gt_p}};
+  fusion::FixedLagSmoother smoother;
+  std::size_t k = 0, pose = 0;
+  // Feeds samples [k, end) and the poses that arrived by then.
+  const auto feed = [&](std::size_t end) {
+    for (; k < end; ++k) {
+      smoother.addStep(s.inputs[k]);
+      for (; pose < s.poses.size() && s.poses[pose].t_arrival <= s.inputs[k].t; ++pose) {
+        smoother.addPose(s.poses[pose]);
+      }
+    }
+  };
+  const auto restart = [&] {
+    smoother.initialise(x0);
+    k = pose = 0;
+    feed(kFull);
+  };
+  restart();
+  double cpu = 0.0;
+  for (auto _ : state) {
+    if (k + kPerKeyframe > s.inputs.size()) {
+      state.PauseTiming();
+      restart();
+      state.ResumeTiming();
+    }
+    feed(k + kPerKeyframe);
+    cpu += smoother.stats().last_solve_cpu_s;
+  }
+  state.counters["solve_cpu_us"] =
+      benchmark::Counter(1e6 * cpu, benchmark::Counter::kAvgIterations);
+  state.counters["keyframes"] = smoother.stats().keyframes;
+}
+BENCHMARK(BM_SmootherWindow)->Unit(benchmark::kMillisecond);
 
 }  // namespace
