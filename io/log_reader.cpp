@@ -12,18 +12,12 @@
 #include <string_view>
 #include <vector>
 
+#include "io/csv_text.hpp"
 #include "io/log_columns.hpp"
 #include "io/log_error.hpp"
 
 namespace legkit::io {
 namespace {
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
-    s.remove_suffix(1);
-  return s;
-}
 
 // Splits one line at commas (no quoting: the format has only numbers and plain names).
 void splitFields(std::string_view line, std::vector<std::string_view>& fields) {
@@ -38,34 +32,6 @@ void splitFields(std::string_view line, std::vector<std::string_view>& fields) {
     fields.push_back(trim(line.substr(start, comma - start)));
     start = comma + 1;
   }
-}
-
-// Shortest text that reads back as x.
-std::string numberText(double x) {
-  char buffer[32];
-  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), x);
-  return ec == std::errc() ? std::string(buffer, end) : std::string("?");
-}
-
-// A field as a message may quote it: bytes that do not print are escaped (\xNN, NUL too) and
-// anything past 40 characters is cut, so that a 100 kB field does not make a 100 kB message.
-std::string shown(std::string_view text) {
-  constexpr std::size_t kMax = 40;
-  std::string out = "'";
-  for (std::size_t i = 0; i < text.size() && i < kMax; ++i) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    if (c >= 0x20 && c < 0x7f) {
-      out += static_cast<char>(c);
-    } else {
-      constexpr char kHex[] = "0123456789abcdef";
-      out += "\\x";
-      out += kHex[c >> 4];
-      out += kHex[c & 0xf];
-    }
-  }
-  out += '\'';
-  if (text.size() > kMax) out += "... (" + std::to_string(text.size()) + " characters)";
-  return out;
 }
 
 // Hands out the lines of a stream with their 1-based numbers, one at a time (the file is never

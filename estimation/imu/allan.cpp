@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "io/csv_text.hpp"
 #include "io/log_error.hpp"
 #include "io/log_reader.hpp"
 
@@ -163,29 +164,10 @@ AllanAnalysis analyseImu(const ImuRecording& recording, const AllanOptions& opti
 
 namespace {
 
+using io::shown;
+using io::trim;
+
 constexpr std::array<const char*, 7> kPlainHeader = {"t", "gx", "gy", "gz", "ax", "ay", "az"};
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
-    s.remove_suffix(1);
-  return s;
-}
-
-// A field as a message quotes it: at most 40 characters, bytes that do not print escaped.
-std::string shown(std::string_view text) {
-  std::string out = "'";
-  for (std::size_t i = 0; i < text.size() && i < 40; ++i) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    if (c >= 0x20 && c < 0x7f) {
-      out += static_cast<char>(c);
-    } else {
-      constexpr char kHex[] = "0123456789abcdef";
-      out += {'\\', 'x', kHex[c >> 4], kHex[c & 0xf]};
-    }
-  }
-  return out + (text.size() > 40 ? "'..." : "'");
-}
 
 bool isPlainHeader(std::string_view line) {
   std::size_t column = 0;
