@@ -10,6 +10,8 @@
 //   legkit study slip          slip detection and reactions on ice (57.7), study_contact.hpp
 //   legkit study faults        injected sensor faults, the monitors and their answers (57.9),
 //                              study_faults.hpp
+//   legkit study fusion        proprioception alone against the map-to-odom alignment, delayed
+//                              pose updates and the fixed-lag smoother (57.8), study_fusion.hpp
 #pragma once
 
 #include <CLI/CLI.hpp>
