@@ -10,10 +10,10 @@
 namespace legkit::fusion {
 
 struct Keyframe {
-  double t = 0.0;                                            // [s]
-  std::array<double, 9> R{1, 0, 0, 0, 1, 0, 0, 0, 1};        // R_WB, column-major
-  std::array<double, 3> v{}, p{};                            // world velocity [m/s], position [m]
-  std::array<double, 3> b_g{}, b_a{};                        // gyro [rad/s], accelerometer [m/s^2] bias
+  double t = 0.0;                                      // [s]
+  std::array<double, 9> R{1, 0, 0, 0, 1, 0, 0, 0, 1};  // R_WB, column-major
+  std::array<double, 3> v{}, p{};                      // world velocity [m/s], position [m]
+  std::array<double, 3> b_g{}, b_a{};                  // gyro [rad/s], accelerometer [m/s^2] bias
   std::array<double, 3> b_v{};  // leg-odometry velocity bias, body frame [m/s] (VILENS)
 
   Eigen::Map<Eigen::Matrix3d> Rmat() { return Eigen::Map<Eigen::Matrix3d>(R.data()); }

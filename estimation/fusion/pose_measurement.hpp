@@ -16,12 +16,13 @@ namespace legkit::fusion {
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 struct PoseMeasurement {
-  double t = 0.0;          // the instant the pose describes (its stamp) [s]
-  double t_arrival = 0.0;  // when it reaches the estimator, t + latency [s]
-  lie::SO3d R_MB;          // base attitude in the map frame
+  double t = 0.0;                                  // the instant the pose describes (its stamp) [s]
+  double t_arrival = 0.0;                          // when it reaches the estimator, t + latency [s]
+  lie::SO3d R_MB;                                  // base attitude in the map frame
   Eigen::Vector3d p_MB = Eigen::Vector3d::Zero();  // base position in the map frame [m]
   Matrix6d cov = Matrix6d::Identity();             // of (dtheta, dp), map frame [rad^2, m^2]
-  bool valid = true;  // false: the source says this pose is not to be used (it is counted, not used)
+  bool valid =
+      true;  // false: the source says this pose is not to be used (it is counted, not used)
 };
 
 }  // namespace legkit::fusion
