@@ -314,7 +314,7 @@ void FixedLagSmoother::initialise(const InitialState& s) {
       R0;
   const double sigmas[] = {o.prior_sigma_v, o.prior_sigma_p, o.prior_sigma_bg, o.prior_sigma_ba,
                            o.prior_sigma_bv};
-  for (int b = 1; b < static_cast<int>(blocks.size()); ++b)
+  for (Eigen::Index b = 1; b < static_cast<Eigen::Index>(blocks.size()); ++b)
     J0.block<3, 3>(3 * b, 3 * b) = Eigen::Matrix3d::Identity() / sigmas[b - 1];
   auto prior = std::make_unique<LinearPrior>(std::move(blocks), J0, Eigen::VectorXd::Zero(n));
   const std::vector<double*> prior_blocks = prior->parameterBlocks();

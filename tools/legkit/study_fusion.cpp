@@ -326,6 +326,7 @@ int runStudyFusion(const CLI::App& fusion, std::ostream& out) {
   const Events events{pose_options.corridor_start, pose_options.corridor_end,
                       pose_options.loop_closure_time};
   std::vector<Scores> scores;
+  scores.reserve(tracks.size());
   for (const Track& tr : tracks) scores.push_back(score(log, tr, events, kRpeDistance));
 
   const eval::Metrics& m0 = scores.front().m;

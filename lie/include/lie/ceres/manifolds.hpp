@@ -39,6 +39,8 @@
 // Ceres problem per manifold (a Karcher mean with a known answer) is solved.
 #pragma once
 
+#include <cstddef>
+
 #include <ceres/manifold.h>
 
 #include <Eigen/Core>
@@ -118,9 +120,9 @@ class SO3Manifold final : public ::ceres::Manifold {
                                    double* tangent_matrix) const override {
     const Eigen::Map<const Eigen::Matrix3d> R(x);
     for (int r = 0; r < num_rows; ++r) {
-      Eigen::Map<Eigen::Vector3d> row(tangent_matrix + r * kTangentSize);
+      Eigen::Map<Eigen::Vector3d> row(tangent_matrix + std::ptrdiff_t{r} * kTangentSize);
       row = detail::rotationRowTimesPlusJacobian(
-          R, Eigen::Map<const Eigen::Matrix3d>(ambient_matrix + r * kAmbientSize));
+          R, Eigen::Map<const Eigen::Matrix3d>(ambient_matrix + std::ptrdiff_t{r} * kAmbientSize));
     }
     return true;
   }
@@ -196,13 +198,14 @@ class SEK3Manifold final : public ::ceres::Manifold {
                                    double* tangent_matrix) const override {
     const Eigen::Map<const Eigen::Matrix3d> R(x);
     for (int r = 0; r < num_rows; ++r) {
-      const double* a = ambient_matrix + r * kAmbientSize;
-      Eigen::Map<Eigen::Matrix<double, kTangentSize, 1>> row(tangent_matrix + r * kTangentSize);
+      const double* a = ambient_matrix + std::ptrdiff_t{r} * kAmbientSize;
+      Eigen::Map<Eigen::Matrix<double, kTangentSize, 1>> row(tangent_matrix +
+                                                             std::ptrdiff_t{r} * kTangentSize);
       row.template head<3>() =
           detail::rotationRowTimesPlusJacobian(R, Eigen::Map<const Eigen::Matrix3d>(a));
       for (int i = 0; i < K; ++i) {
         row.template segment<3>(3 + 3 * i) =
-            R.transpose() * Eigen::Map<const Eigen::Vector3d>(a + 9 + 3 * i);
+            R.transpose() * Eigen::Map<const Eigen::Vector3d>(a + 9 + std::ptrdiff_t{3} * i);
       }
     }
     return true;
