@@ -1,6 +1,9 @@
 #include "io/csv_text.hpp"
 
 #include <charconv>
+#include <limits>
+
+#include "io/log_error.hpp"
 
 namespace legkit::io {
 
@@ -34,6 +37,25 @@ std::string shown(std::string_view text) {
   out += '\'';
   if (text.size() > kMax) out += "... (" + std::to_string(text.size()) + " characters)";
   return out;
+}
+
+bool LineSource::next(std::string_view& line) {
+  line_.clear();
+  int c = buffer_.sbumpc();
+  if (c == std::char_traits<char>::eof()) return false;
+  // Line numbers are ints (LogError::line); a file of 2^31 line ends must not overflow them.
+  if (number_ == std::numeric_limits<int>::max()) {
+    throw LogError(source_, number_, "", "more lines than a line number can count");
+  }
+  while (c != std::char_traits<char>::eof() && c != '\n' && c != '\r') {
+    line_.push_back(static_cast<char>(c));
+    c = buffer_.sbumpc();
+  }
+  if (c == '\r' && buffer_.sgetc() == '\n') buffer_.sbumpc();
+  if (++number_ == 1 && line_.compare(0, 3, "\xEF\xBB\xBF") == 0) line_.erase(0, 3);
+  line = line_;
+  bytes_ += line_.size() + 1;
+  return true;
 }
 
 }  // namespace legkit::io

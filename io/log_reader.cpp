@@ -34,41 +34,6 @@ void splitFields(std::string_view line, std::vector<std::string_view>& fields) {
   }
 }
 
-// Hands out the lines of a stream with their 1-based numbers, one at a time (the file is never
-// held whole in memory). A line ends at LF, CR LF or a lone CR (old Mac files), so text files
-// from every platform read alike; a UTF-8 byte-order mark before the first line is skipped.
-class LineSource {
- public:
-  LineSource(std::istream& in, const std::string& source) : buffer_(*in.rdbuf()), source_(source) {}
-  bool next(std::string_view& line) {
-    line_.clear();
-    int c = buffer_.sbumpc();
-    if (c == std::char_traits<char>::eof()) return false;
-    // Line numbers are ints (LogError::line); a file of 2^31 line ends must not overflow them.
-    if (number_ == std::numeric_limits<int>::max()) {
-      throw LogError(source_, number_, "", "more lines than a line number can count");
-    }
-    while (c != std::char_traits<char>::eof() && c != '\n' && c != '\r') {
-      line_.push_back(static_cast<char>(c));
-      c = buffer_.sbumpc();
-    }
-    if (c == '\r' && buffer_.sgetc() == '\n') buffer_.sbumpc();
-    if (++number_ == 1 && line_.compare(0, 3, "\xEF\xBB\xBF") == 0) line_.erase(0, 3);
-    line = line_;
-    bytes_ += line_.size() + 1;
-    return true;
-  }
-  int number() const { return number_; }
-  std::size_t bytes() const { return bytes_; }  // read so far, about
-
- private:
-  std::streambuf& buffer_;
-  const std::string& source_;
-  std::string line_;
-  int number_ = 0;
-  std::size_t bytes_ = 0;
-};
-
 class Reader {
  public:
   Reader(std::string source, const ReadOptions& options)

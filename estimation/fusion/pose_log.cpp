@@ -89,38 +89,38 @@ Problem checkPose(const PoseMeasurement& z, double previous_t, bool has_previous
 
 class Reader {
  public:
-  Reader(std::istream& in, const std::string& source) : buffer_(*in.rdbuf()), source_(source) {}
+  Reader(std::istream& in, const std::string& source) : lines_(in, source), source_(source) {}
 
   std::vector<PoseMeasurement> read() {
     std::vector<PoseMeasurement> poses;
     std::string_view line;
     bool have_header = false;
-    while (next(line)) {
+    while (lines_.next(line)) {
       if (!line.empty() && line.front() == '#') continue;
       have_header = true;
       break;
     }
-    if (!have_header) fail(number_, "", "no header line (the file is empty)");
+    if (!have_header) fail(lines_.number(), "", "no header line (the file is empty)");
     checkHeader(line);
     std::array<std::string_view, kNumColumns> fields;
-    while (next(line)) {
+    while (lines_.next(line)) {
       if (line.empty()) {
         // One final line end leaves an empty last line; a blank line before more data is an error.
-        const int blank = number_;
+        const int blank = lines_.number();
         std::string_view rest;
-        while (next(rest)) {
+        while (lines_.next(rest)) {
           if (!rest.empty()) fail(blank, "", "blank line inside the data");
         }
         break;
       }
       const int n = splitFields(line, fields);
       if (n != kNumColumns) {
-        fail(number_, "",
+        fail(lines_.number(), "",
              "expected " + std::to_string(kNumColumns) + " fields, got " + std::to_string(n));
       }
       poses.push_back(parseRow(fields, poses.empty() ? nullptr : &poses.back()));
     }
-    if (poses.empty()) fail(number_, "", "no data rows after the header");
+    if (poses.empty()) fail(lines_.number(), "", "no data rows after the header");
     return poses;
   }
 
@@ -129,37 +129,20 @@ class Reader {
     throw LogError(source_, line, column, what);
   }
 
-  bool next(std::string_view& line) {
-    line_.clear();
-    int c = buffer_.sbumpc();
-    if (c == std::char_traits<char>::eof()) return false;
-    if (number_ == std::numeric_limits<int>::max()) {
-      fail(number_, "", "more lines than a line number can count");
-    }
-    while (c != std::char_traits<char>::eof() && c != '\n' && c != '\r') {
-      line_.push_back(static_cast<char>(c));
-      c = buffer_.sbumpc();
-    }
-    if (c == '\r' && buffer_.sgetc() == '\n') buffer_.sbumpc();
-    if (++number_ == 1 && line_.compare(0, 3, "\xEF\xBB\xBF") == 0) line_.erase(0, 3);
-    line = line_;
-    return true;
-  }
-
   void checkHeader(std::string_view line) {
     std::array<std::string_view, kNumColumns> fields;
     const int n = splitFields(line, fields);
     const auto& cols = poseLogColumns();
     for (int i = 0; i < std::min(n, kNumColumns); ++i) {
       if (fields[i] != cols[i]) {
-        fail(number_, "",
+        fail(lines_.number(), "",
              "header field " + std::to_string(i + 1) + ": expected '" + cols[i] + "', got " +
                  shown(fields[i]) +
                  " (the header is t,t_arrival,px,py,pz,qw,qx,qy,qz,c00..c55,valid)");
       }
     }
     if (n != kNumColumns) {
-      fail(number_, "",
+      fail(lines_.number(), "",
            "expected a header of " + std::to_string(kNumColumns) + " columns, got " +
                std::to_string(n));
     }
@@ -167,7 +150,7 @@ class Reader {
 
   double number(int column, std::string_view text) const {
     const std::string& name = poseLogColumns()[column];
-    if (text.empty()) fail(number_, name, "expected a number, the field is empty");
+    if (text.empty()) fail(lines_.number(), name, "expected a number, the field is empty");
     const char* first = text.data();
     const char* last = text.data() + text.size();
     if (*first == '+') ++first;
@@ -175,14 +158,15 @@ class Reader {
     const auto [end, ec] = std::from_chars(first, last, value);
     if (ec == std::errc::result_out_of_range) {
       const double magnitude = std::abs(std::strtod(std::string(text).c_str(), nullptr));
-      fail(number_, name,
+      fail(lines_.number(), name,
            "expected a finite number, got " + shown(text) +
                (magnitude < 1.0 ? " (underflow: too small to represent)"
                                 : " (overflow: too large to represent)"));
     }
     if (ec != std::errc() || end != last)
-      fail(number_, name, "expected a number, got " + shown(text));
-    if (!std::isfinite(value)) fail(number_, name, "expected a finite number, got " + shown(text));
+      fail(lines_.number(), name, "expected a number, got " + shown(text));
+    if (!std::isfinite(value))
+      fail(lines_.number(), name, "expected a finite number, got " + shown(text));
     return value;
   }
 
@@ -197,7 +181,8 @@ class Reader {
     const Eigen::Quaterniond q(v[5], v[6], v[7], v[8]);
     const double norm = q.norm();
     if (!(std::abs(norm - 1.0) <= 1e-6)) {
-      fail(number_, "qw", "expected a unit quaternion qw..qz, its norm is " + numberText(norm));
+      fail(lines_.number(), "qw",
+           "expected a unit quaternion qw..qz, its norm is " + numberText(norm));
     }
     z.R_MB = lie::SO3d::fromQuaternion(q);
     int k = kCovFirst;
@@ -208,18 +193,16 @@ class Reader {
       }
     }
     if (v[kValid] != 0.0 && v[kValid] != 1.0) {
-      fail(number_, "valid", "expected a valid flag 0 or 1, got " + shown(f[kValid]));
+      fail(lines_.number(), "valid", "expected a valid flag 0 or 1, got " + shown(f[kValid]));
     }
     z.valid = v[kValid] == 1.0;
     const Problem problem = checkPose(z, previous ? previous->t : 0.0, previous != nullptr);
-    if (!problem.what.empty()) fail(number_, problem.column, problem.what);
+    if (!problem.what.empty()) fail(lines_.number(), problem.column, problem.what);
     return z;
   }
 
-  std::streambuf& buffer_;
+  io::LineSource lines_;
   const std::string& source_;
-  std::string line_;
-  int number_ = 0;
 };
 
 }  // namespace
