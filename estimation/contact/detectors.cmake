@@ -13,11 +13,11 @@ add_library(legkit_contact STATIC
   kinematic_detector.hpp
   fallback_detector.cpp
   fallback_detector.hpp)
-target_include_directories(legkit_contact PUBLIC ${PROJECT_SOURCE_DIR})
+target_include_directories(legkit_contact PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>)
 target_link_libraries(legkit_contact PUBLIC legkit_model lie::lie)
 
 # legkit_contact_factory: every detector by name (detectors.hpp), above legkit_contact and
 # legkit_contact_learned (learned.cmake) so that neither depends on the other.
 add_library(legkit_contact_factory STATIC detectors.cpp detectors.hpp)
-target_include_directories(legkit_contact_factory PUBLIC ${PROJECT_SOURCE_DIR})
+target_include_directories(legkit_contact_factory PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>)
 target_link_libraries(legkit_contact_factory PUBLIC legkit_contact legkit_contact_learned)

@@ -7,5 +7,5 @@ add_library(legkit_contact_learned STATIC
   logistic_contact.hpp
   logistic_training.cpp
   logistic_training.hpp)
-target_include_directories(legkit_contact_learned PUBLIC ${PROJECT_SOURCE_DIR})
+target_include_directories(legkit_contact_learned PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>)
 target_link_libraries(legkit_contact_learned PUBLIC legkit_model lie::lie)
