@@ -54,4 +54,13 @@ refuse() {  # refuse <name> <find_package arguments> <expected message>
 }
 refuse unknown "legkit REQUIRED COMPONENTS nosuch" "legkit has no component 'nosuch'"
 refuse version "legkit 0.1 REQUIRED" "The following configuration files were considered but not accepted"
+echo "== a component finds only its own dependencies: io does not look for Ceres"
+mkdir -p "$work/io-only"
+printf 'cmake_minimum_required(VERSION 3.20)\nproject(p LANGUAGES CXX)\nfind_package(legkit 0.2 REQUIRED COMPONENTS io)\nif(NOT TARGET legkit::io OR TARGET legkit::estimation)\n  message(FATAL_ERROR "wrong targets")\nendif()\n' \
+  >"$work/io-only/CMakeLists.txt"
+"$cmake" -S "$work/io-only" -B "$work/io-only/build" -DCMAKE_PREFIX_PATH="$prefix" >"$work/io-only.log"
+if grep -q '^Ceres_DIR' "$work/io-only/build/CMakeCache.txt"; then
+  echo "FAIL: find_package(legkit COMPONENTS io) looked for Ceres" >&2; exit 1
+fi
+echo "ok: COMPONENTS io gives legkit::io without Ceres"
 echo "package: ok"
