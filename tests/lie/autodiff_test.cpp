@@ -270,6 +270,9 @@ void instantiateFreeFunctions() {
   const lie::SEKd<S, 4> Z(3);
   lie::imu::phiWithBias(lie::imu::propagate(Z, w, a, g, dt), w, a, g, dt);
 }
+// (instantiated here: an explicit instantiation belongs to the template's own namespace)
+template void instantiateFreeFunctions<ceres::Jet<double, 3>>();
+template void instantiateFreeFunctions<AdDynamic>();
 
 }  // namespace
 
@@ -279,8 +282,6 @@ template class lie::SO3<ceres::Jet<double, 3>>;
 template class lie::SO3<AdDynamic>;
 template class lie::SEK3<ceres::Jet<double, 3>, Eigen::Dynamic, 4>;
 template class lie::SEK3<AdDynamic, Eigen::Dynamic, 4>;
-template void instantiateFreeFunctions<ceres::Jet<double, 3>>();
-template void instantiateFreeFunctions<AdDynamic>();
 
 TEST_CASE("SO3 autodiff derivatives equal the closed-form Jacobians", "[lie][autodiff]") {
   checkGroup<lie::SO3, ceres::Jet<double, 6>>("SO3 Jet");
