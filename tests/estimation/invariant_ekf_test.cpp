@@ -857,6 +857,44 @@ TEST_CASE("InEKF on the Cassie log: TouchdownAttitude::kPredicted gives the refe
   CHECK(kit.state < 1e-3);
 }
 
+// The checkpoints above see the two touchdown attitudes differ by 2.5e-4; over every record of the
+// log the difference is larger, right after the first touchdowns, where the first attitude
+// corrections are largest (chapter 57.5 quotes these figures).
+TEST_CASE("InEKF on the Cassie log: kCorrected against kPredicted over the whole log",
+          "[57.5][inekf][cassie]") {
+  const io::HartleyLog log = readCassie();
+  InvariantEkfParams params = InvariantEkfParams::hartleyExample();
+  std::vector<Eigen::Matrix<double, 13, 1>> kit;  // t, v, p, b_g, b_a after each record
+  kit.reserve(log.samples.size());
+  const auto state = [](const InvariantEkf& f) {
+    Eigen::Matrix<double, 13, 1> x;
+    x << f.estimate().t, f.estimate().v, f.estimate().p, f.b_g(), f.b_a();
+    return x;
+  };
+  runCassie(log, params, [&](const InvariantEkf& f) { kit.push_back(state(f)); });
+  params.touchdown_attitude = inekf::TouchdownAttitude::kPredicted;
+  std::size_t k = 0;
+  const char* names[] = {"v", "p", "b_g", "b_a"};
+  double largest[4] = {0, 0, 0, 0}, when[4] = {0, 0, 0, 0};
+  runCassie(log, params, [&](const InvariantEkf& f) {
+    const Eigen::Matrix<double, 13, 1> d = (state(f) - kit[k]).cwiseAbs();
+    for (int b = 0; b < 4; ++b) {
+      if (d.segment<3>(1 + 3 * b).maxCoeff() > largest[b]) {
+        largest[b] = d.segment<3>(1 + 3 * b).maxCoeff();
+        when[b] = kit[k](0);
+      }
+    }
+    ++k;
+  });
+  std::ostringstream os;
+  os << "kCorrected - kPredicted over the log, largest |difference| and when:";
+  for (int b = 0; b < 4; ++b) os << "  " << names[b] << " " << largest[b] << " at " << when[b] << " s";
+  WARN(os.str());
+  const double worst = *std::max_element(largest, largest + 4);
+  CHECK(worst > 2.5e-4);  // more than the checkpoints show (measured 1.6e-3, b_g)
+  CHECK(worst < 5e-3);    // still a rounding-sized choice next to the state (|v| ~ 1 m/s)
+}
+
 TEST_CASE("InEKF: a hexapod standing holds six feet and stays at the truth", "[57.5][inekf]") {
   // Six feet around a body at rest 0.3 m above the ground, exact readings: the estimate must not
   // move, every foot is held, and P stays symmetric positive definite.
