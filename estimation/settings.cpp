@@ -290,7 +290,12 @@ const std::vector<Node>& schema() {
                    "a stance foot's slip allowance (also the linear KF's) [m/sqrt(s)]"),
                number(
                    "swing_density", [](S& s) -> double& { return s.feet.swing_density; }, 1e-6, 100,
-                   "a swing foot, the p_c = 0 end of a soft contact [m/sqrt(s)]")}),
+                   "a swing foot, the p_c = 0 end of a soft contact [m/sqrt(s)]"),
+               flag(
+                   "correct_yaw", [](S& s) -> bool& { return s.feet.correct_yaw; },
+                   "stance feet may correct the heading (yaw and the gyro bias about the "
+                   "vertical) in the ESKF and the InEKF, which they cannot observe: false keeps "
+                   "the gyro's heading")}),
       section(
           "linear_kf", "The linear KF of section 57.4 and its attitude filter",
           {number(
@@ -638,12 +643,14 @@ std::unique_ptr<Estimator> makeEstimator(const std::string& name, const Settings
     priors(p);
     p.foot_stance_density = s.feet.stance_density;
     p.foot_init_sigma = s.priors.foot_init_sigma;
+    p.feet_correct_yaw = s.feet.correct_yaw;
     return std::make_unique<invariant::Eskf>(p);
   }
   if (name == "invariant-ekf") {
     invariant::InvariantEkfParams p;
     priors(p);
     p.foot_density = s.feet.stance_density;
+    p.feet_correct_yaw = s.feet.correct_yaw;
     p.discretisation = s.invariant_ekf.discretisation;
     p.touchdown_attitude = s.invariant_ekf.touchdown_attitude;
     return std::make_unique<invariant::InvariantEkf>(p);

@@ -57,6 +57,9 @@ RunResult runRows(Estimator& estimator, const io::Log& log, const model::ImuExtr
   } catch (...) {
     fail("reset threw an exception that is not a std::exception");
   }
+  // The truth the NEES is scored against: the log's gt_v, or its pose differentiated (a pose-only
+  // truth, as compare() does); a row without a valid truth gets NaN, left out of the ANEES.
+  const TruthVelocity truth_v = log.layout.ground_truth ? truthVelocity(log) : TruthVelocity{};
   for (; !result.failure && k < log.rows.size(); ++k) {
     const io::LogRow& row = log.rows[k];
     try {
@@ -83,9 +86,9 @@ RunResult runRows(Estimator& estimator, const io::Log& log, const model::ImuExtr
         fail("covariance with a negative variance on its diagonal");
         break;
       }
-      double e = 0.0;
-      if (cov && log.layout.ground_truth) {
-        const EstimateSample truth{row.t, row.gt_q, row.gt_v, row.gt_p};
+      double e = std::numeric_limits<double>::quiet_NaN();
+      if (cov && log.layout.ground_truth && truth_v.available[k]) {
+        const EstimateSample truth{row.t, row.gt_q, truth_v.v[k], row.gt_p};
         try {
           e = nees(truth, x, *cov);
         } catch (const std::invalid_argument&) {
@@ -193,10 +196,15 @@ std::string describe(const Health& health) {
 }
 
 double normalisedAnees(const RunResult& run) {
-  if (run.nees.empty() || run.nees_dof == 0) return std::numeric_limits<double>::quiet_NaN();
   double sum = 0.0;
-  for (const double e : run.nees) sum += e;
-  return sum / static_cast<double>(run.nees.size()) / run.nees_dof;
+  std::size_t scored = 0;
+  for (const double e : run.nees) {
+    if (std::isnan(e)) continue;  // a row without a valid truth
+    sum += e;
+    ++scored;
+  }
+  if (scored == 0 || run.nees_dof == 0) return std::numeric_limits<double>::quiet_NaN();
+  return sum / static_cast<double>(scored) / run.nees_dof;
 }
 
 EstimateSample initialState(const io::Log& log) {

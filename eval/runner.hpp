@@ -40,10 +40,12 @@ struct RunResult {
   double us_per_step = 0;  // mean wall time of Estimator::step [microseconds]
   // For filters (Estimator::covariance()), else empty (same rows as trajectory):
   std::vector<Eigen::Matrix<double, 9, 1>> sigma;  // per row, sqrt of diag P: (theta, v, p)
-  std::vector<double> nees;  // per row, against the log's ground truth (empty without one)
-  int nees_dof = 0;          // 9, or 6 for a filter without attitude; 0 for no covariance
-  Health health;             // the estimator's health at the end of the run (or at its failure)
-                             // and, on a pipeline, the pipeline's (Fault::kNoContact)
+  // Per row, against the log's ground truth (its pose differentiated for a pose-only truth); NaN
+  // on a row without a valid truth (gt_valid = 0); empty without a truth.
+  std::vector<double> nees;
+  int nees_dof = 0;  // 9, or 6 for a filter without attitude; 0 for no covariance
+  Health health;     // the estimator's health at the end of the run (or at its failure)
+                     // and, on a pipeline, the pipeline's (Fault::kNoContact)
   // On a contact pipeline (else empty): its contact source ("truth" or the detector's name),
   // per row its contact flags (the detector's usable "contact" answers, or the log's flags; same
   // rows as trajectory, indexed by foot id), and
@@ -60,8 +62,8 @@ struct RunResult {
   bool ok() const { return !failed() && health.healthy(); }
 };
 
-// Mean NEES over the rows of one run divided by its degrees of freedom (1 for a consistent
-// filter); NaN when the run has no NEES.
+// Mean NEES over the rows of one run that have one, divided by its degrees of freedom (1 for a
+// consistent filter); NaN when the run has no NEES.
 double normalisedAnees(const RunResult& run);
 
 // Resets the estimator to x0, feeds it every row of the log (through the front end) and records

@@ -19,6 +19,10 @@ class LegKinematics {
   virtual int numFeet() const = 0;
   virtual int numJoints() const = 0;
   virtual std::string footName(int foot) const = 0;
+  // The model's name of leg joint `joint` (the log's column joint<k>_q, or q_<leg>_<j>).
+  virtual std::string jointName(int joint) const = 0;
+  // The robot's total mass as its model gives it (the sum of its bodies' masses) [kg].
+  virtual double mass() const = 0;
   // Foot `foot`'s point in the base frame at joint angles q [m], and its Jacobian d p / d q
   // (so that the foot's velocity relative to the base is J dq). No allocation. Not thread-safe
   // for the MuJoCo implementation (it owns one mjData).

@@ -2,6 +2,7 @@
 
 #include "model/quadruped_leg_kinematics.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <memory>
@@ -99,12 +100,49 @@ StartTag nextStartTag(const std::string& s, std::size_t from) {
   return tag;
 }
 
-// The URDF text with the compiler settings of the header's comment added (no line added, so
-// MuJoCo's line numbers stay the file's); any other document unchanged. Returns whether it is
-// a URDF (root element <robot>).
+// Just after the end tag </name> of the element that `tag` opens (URDF does not nest a <visual>
+// or <collision> in one of its own name); npos when it is not closed.
+std::size_t elementEnd(const std::string& s, const StartTag& tag) {
+  if (tag.self_closing) return tag.end;
+  const std::string close = "</" + tag.name;
+  for (std::size_t at = s.find(close, tag.end); at != std::string::npos;
+       at = s.find(close, at + 1)) {
+    const std::size_t after = at + close.size();
+    if (after < s.size() && std::strchr(" \t\r\n>", s[after]) != nullptr) {
+      const std::size_t end = s.find('>', after);
+      return end == std::string::npos ? end : end + 1;
+    }
+  }
+  return std::string::npos;
+}
+
+// Removes every <visual> and <collision> element, keeping its line breaks (so MuJoCo's line
+// numbers stay the file's). The kit reads kinematics only: these elements carry nothing it uses,
+// and their meshes are the files a URDF taken out of its ROS package no longer has (MuJoCo
+// refuses a missing mesh). Masses come from <inertial>, which stays. An element left unclosed
+// stays, for MuJoCo to report.
+void stripGeometry(std::string& xml) {
+  std::size_t from = 0;
+  for (StartTag t = nextStartTag(xml, from); t.begin != std::string::npos;
+       t = nextStartTag(xml, from)) {
+    from = t.end;
+    if (t.name != "visual" && t.name != "collision") continue;
+    const std::size_t end = elementEnd(xml, t);
+    if (end == std::string::npos) return;
+    const auto first = xml.begin() + static_cast<std::ptrdiff_t>(t.begin);
+    const auto lines = std::count(first, first + static_cast<std::ptrdiff_t>(end - t.begin), '\n');
+    xml.replace(t.begin, end - t.begin, static_cast<std::size_t>(lines), '\n');
+    from = t.begin;
+  }
+}
+
+// The URDF text with its geometry stripped (stripGeometry) and the compiler settings of the
+// header's comment added (no line added, so MuJoCo's line numbers stay the file's); any other
+// document unchanged. Returns whether it is a URDF (root element <robot>).
 bool prepareUrdf(std::string& xml) {
   const StartTag root = nextStartTag(xml, 0);
   if (root.begin == std::string::npos || root.name != "robot" || root.self_closing) return false;
+  stripGeometry(xml);
   StartTag compiler, mujoco;
   for (StartTag t = nextStartTag(xml, root.end); t.begin != std::string::npos;
        t = nextStartTag(xml, t.end)) {
@@ -279,6 +317,10 @@ std::string MujocoLegKinematics::footName(int foot) const {
 
 std::string MujocoLegKinematics::jointName(int joint) const {
   return joints_.at(static_cast<std::size_t>(joint)).name;
+}
+
+double MujocoLegKinematics::mass() const {
+  return mj_getTotalmass(model_.get());
 }
 
 void MujocoLegKinematics::update(const LegJointVector& q) const {

@@ -16,8 +16,10 @@
 // adds compiler settings to the URDF text it hands to MuJoCo (the file itself is not changed):
 // fusestatic="false", and boundmass / boundinertia (1e-6 kg, 1e-10 kg m^2) so that a
 // kinematics-only URDF whose links carry no <inertial> still compiles; a setting the file's own
-// <mujoco><compiler> already gives is left alone. Meshes: MuJoCo strips "package://..." to the
-// file name and looks for it next to the URDF (or in the compiler's meshdir).
+// <mujoco><compiler> already gives is left alone. It also removes every <visual> and
+// <collision> element (their meshes are what a URDF taken out of its ROS package no longer has,
+// and kinematics never need them; <inertial> stays). An MJCF file is handed to MuJoCo as it is:
+// its meshes must be where it says.
 #pragma once
 
 #include <memory>
@@ -46,8 +48,9 @@ class MujocoLegKinematics final : public LegKinematics {
 
   int numFeet() const override { return static_cast<int>(feet_.size()); }
   int numJoints() const override { return static_cast<int>(joints_.size()); }
-  std::string footName(int foot) const override;  // the site or body name
-  std::string jointName(int joint) const;         // the model joint behind column `joint`
+  std::string footName(int foot) const override;    // the site or body name
+  std::string jointName(int joint) const override;  // the model joint behind column `joint`
+  double mass() const override;                     // mj_getTotalmass of the model
   const std::string& path() const { return path_; }
 
   // B_p_f and B_J at q (entries >= numJoints() ignored). Kinematics run once per distinct q: the

@@ -14,6 +14,9 @@
 //   physics-ice-aware  the same with the friction-aware controller (|f_t| <= 0.08 f_n)
 //   physics-ice-push   standing on ice everywhere (mu 0.1), friction-aware, pushed sideways
 //                      with 50 N for 0.2 s at t = 3 s, 10 s
+//   physics-real       2 Hz trot at 0.5 m/s turning at 0.4 rad/s, 30 s, on a robot with a real
+//                      one's imperfections (realRobot(): links off the model, joint offsets,
+//                      backlash, quantised and delayed encoders, a held IMU, compliant feet)
 // Every scenario stands still for stand_time (stationary initialisation), then the gait clock
 // starts and the speed and turn rate ramp up smoothly over ramp_duration.
 #pragma once
@@ -25,6 +28,7 @@
 #include <vector>
 
 #include "sim/gait.hpp"
+#include "sim/robot_imperfections.hpp"
 
 namespace legkit::sim {
 
@@ -83,6 +87,8 @@ struct PhysicsScenario {
   // The friction-aware controller: stance forces within |f_t| <= 0.08 f_n (else 0.6 f_n) and the
   // stance feet damped relative to the base (sim/locomotion_controller.hpp, kd_stance 30 N s/m).
   bool friction_aware = false;
+  // The robot's own imperfections (sim/robot_imperfections.hpp): none but in physics-real.
+  RobotImperfections robot;
   double stand_time = 1.0;     // still at the start [s]
   double ramp_duration = 1.0;  // speed and turn rate ramp up over this [s]
   double duration = 10.0;      // default length of a run [s]
@@ -92,5 +98,7 @@ struct PhysicsScenario {
 // naming it and listing the known names otherwise.
 PhysicsScenario physicsScenarioByName(const std::string& name);
 std::vector<std::string> physicsScenarioNames();
+// The imperfections physics-real gives its robot, each with the figure behind it.
+RobotImperfections realRobot();
 
 }  // namespace legkit::sim

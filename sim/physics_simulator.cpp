@@ -3,6 +3,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <deque>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -22,7 +24,8 @@ constexpr double kAwareStanceDamping = 30.0;  // the friction-aware stance foot 
 constexpr double kTerrainExtent = 100.0;      // the tiled ground spans +-this in x and y [m]
 constexpr double kMaxSlopeAngle = 0.35;       // steepest ramp accepted [rad] (about 20 degrees)
 constexpr double kSettleTime = 0.5;           // simulated before the log starts [s]
-constexpr double kFallTilt = 1.0;             // |roll| or |pitch| beyond this is a fall [rad]
+constexpr double kFootSolmix = 1e6;  // a compliant foot's solref weight against the ground's 1
+constexpr double kFallTilt = 1.0;    // |roll| or |pitch| beyond this is a fall [rad]
 // No step, ramp or patch edge this close to the starting feet (centres) [m]: the settle and the
 // first steps stay on the level ground the robot is placed on (the step-down and slope scenarios'
 // edges are 0.41 m ahead of the front feet).
@@ -130,6 +133,22 @@ void checkOptions(const PhysicsOptions& o, const model::QuadrupedGeometry& geome
   if (!(o.force_sensor.saturation > 0.0)) {
     bad("force_sensor.saturation", o.force_sensor.saturation, "must be > 0");
   }
+  const RobotImperfections& r = s.robot;
+  if (!(std::isfinite(r.link_length_error) && std::abs(r.link_length_error) <= 0.1)) {
+    bad("robot.link_length_error", r.link_length_error, "is outside [-0.1, 0.1]");
+  }
+  if (!nonNegative(r.joint_offset_sigma))
+    bad("robot.joint_offset_sigma", r.joint_offset_sigma, "must be >= 0");
+  if (!nonNegative(r.backlash)) bad("robot.backlash", r.backlash, "must be >= 0");
+  if (!nonNegative(r.encoder_resolution))
+    bad("robot.encoder_resolution", r.encoder_resolution, "must be >= 0");
+  if (!(nonNegative(r.encoder_delay) && r.encoder_delay <= 0.1))
+    bad("robot.encoder_delay", r.encoder_delay, "is outside [0, 0.1] s");
+  if (!(r.imu_rate == 0.0 ||
+        (std::isfinite(r.imu_rate) && r.imu_rate > 0.0 && r.imu_rate <= o.rate)))
+    bad("robot.imu_rate", r.imu_rate, "must be 0 or in (0, rate]");
+  if (!(r.foot_timeconst == 0.0 || (r.foot_timeconst >= 0.002 && r.foot_timeconst <= 0.2)))
+    bad("robot.foot_timeconst", r.foot_timeconst, "must be 0 or in [0.002, 0.2] s");
   checkFriction("terrain.friction", s.terrain.friction);
   for (const FrictionPatch& p : s.terrain.patches) {
     checkFriction("patch friction", p.friction);
@@ -279,9 +298,55 @@ World buildWorld(const PhysicsOptions& o, const model::QuadrupedGeometry& geomet
     w.foot_geom[leg] = id(m, mjOBJ_GEOM, n + "_foot");
     w.foot_site[leg] = id(m, mjOBJ_SITE, n + "_foot");
     w.calf_body[leg] = id(m, mjOBJ_BODY, n + "_calf");
+    // Compliant feet: the foot's solref decides its contacts (MuJoCo mixes two geoms' solref
+    // weighted by solmix; the ground keeps 1).
+    if (o.scenario.robot.foot_timeconst > 0.0) {
+      m.geom_solref[2 * w.foot_geom[leg]] = o.scenario.robot.foot_timeconst;
+      m.geom_solmix[w.foot_geom[leg]] = kFootSolmix;
+    }
   }
   return w;
 }
+
+// The encoders of a real robot (sim/robot_imperfections.hpp): the joints as they were
+// encoder_delay ago, through the gear play, off by a constant offset, with white noise, quantised.
+class Encoders {
+ public:
+  Encoders(const PhysicsOptions& o, std::mt19937_64& offset_rng)
+      : o_(o), delay_rows_(std::lround(o.scenario.robot.encoder_delay * o.rate)) {
+    std::normal_distribution<double> unit(0.0, 1.0);
+    for (int i = 0; i < io::kNumJoints; ++i) {
+      offset_(i) = o.scenario.robot.joint_offset_sigma * unit(offset_rng);
+    }
+  }
+
+  // Takes the true q, dq of the next row (rows arrive in order).
+  void sample(const io::JointVector& q, const io::JointVector& dq) {
+    history_.push_back({q, dq});
+    if (static_cast<long>(history_.size()) > delay_rows_ + 1) history_.pop_front();
+    const io::JointVector& q_then = history_.front().first;  // delay_rows_ ago (row 0 at first)
+    if (!played_) played_ = q_then;
+    const double half_play = 0.5 * o_.scenario.robot.backlash;
+    *played_ = played_->array().max(q_then.array() - half_play).min(q_then.array() + half_play);
+  }
+  // Joint i's angle and rate readings of that row, given a N(0, 1) draw for its noise (the
+  // caller draws them, interleaved with the torques', in the kit's fixed random sequence).
+  double angle(int i, double unit_draw) const {
+    const double reading = (*played_)(i) + offset_(i) + o_.encoder_angle_sigma * unit_draw;
+    const double step = o_.scenario.robot.encoder_resolution;
+    return step > 0.0 ? step * std::round(reading / step) : reading;
+  }
+  double rate(int i, double unit_draw) const {
+    return history_.front().second(i) + o_.encoder_rate_sigma * unit_draw;
+  }
+
+ private:
+  const PhysicsOptions& o_;
+  long delay_rows_;
+  io::JointVector offset_ = io::JointVector::Zero();
+  std::deque<std::pair<io::JointVector, io::JointVector>> history_;
+  std::optional<io::JointVector> played_;  // the play operator's output, from the first row
+};
 
 // The true state of the base and joints in the controller's terms.
 ControllerState trueState(const mjData& d) {
@@ -420,7 +485,10 @@ PhysicsOptions& PhysicsOptions::noiseless() {
 
 PhysicsResult simulatePhysics(const PhysicsOptions& o) {
   const PhysicsScenario& scenario = o.scenario;
-  const model::QuadrupedGeometry geometry = model::QuadrupedGeometry::go2();
+  // The robot as built: its links (1 + link_length_error) times the model's the estimators use.
+  model::QuadrupedGeometry geometry = model::QuadrupedGeometry::go2();
+  geometry.thigh_length *= 1.0 + scenario.robot.link_length_error;
+  geometry.calf_length *= 1.0 + scenario.robot.link_length_error;
   checkOptions(o, geometry);
   const model::QuadrupedInertia inertia = model::QuadrupedInertia::go2();
   const model::QuadrupedKinematics kinematics(geometry);
@@ -475,7 +543,12 @@ PhysicsResult simulatePhysics(const PhysicsOptions& o) {
   std::mt19937_64 encoder_rng = stream(o.seed, 2);
   std::mt19937_64 torque_rng = stream(o.seed, 4);
   std::mt19937_64 force_rng = stream(o.seed, 5);
+  std::mt19937_64 offset_rng = stream(o.seed, 6);
   std::normal_distribution<double> unit(0.0, 1.0);
+  Encoders encoders(o, offset_rng);
+  const double imu_rate = scenario.robot.imu_rate;
+  model::ImuReading imu_held;  // the IMU's last sample, held until its next
+  long imu_samples = 0;
 
   io::Log& log = out.log;
   log.layout.joints = true;
@@ -562,11 +635,16 @@ PhysicsResult simulatePhysics(const PhysicsOptions& o) {
     const model::ImuBias bias_now = bias;
     const model::ImuReading imu =
         model::synthesiseReading(o.imu_noise, dt, now.R, a, omega_sum / substeps, bias, imu_rng);
-    row.gyro = imu.w_m;
-    row.acc = imu.a_m;
+    if (imu_rate == 0.0 || row.t >= imu_samples / imu_rate - 0.5 * dt) {
+      imu_held = imu;  // a fresh sample
+      ++imu_samples;
+    }
+    row.gyro = imu_held.w_m;
+    row.acc = imu_held.a_m;
+    encoders.sample(now.q, now.dq);
     for (int i = 0; i < io::kNumJoints; ++i) {
-      row.q(i) = now.q(i) + o.encoder_angle_sigma * unit(encoder_rng);
-      row.dq(i) = now.dq(i) + o.encoder_rate_sigma * unit(encoder_rng);
+      row.q(i) = encoders.angle(i, unit(encoder_rng));
+      row.dq(i) = encoders.rate(i, unit(encoder_rng));
       row.tau(i) = applied(i) + o.torque_sigma * unit(torque_rng);
     }
     for (int leg = 0; leg < model::kNumLegs; ++leg) {

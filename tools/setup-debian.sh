@@ -6,7 +6,8 @@ packages=(
   libeigen3-dev catch2 librapidcheck-dev libceres-dev libgmock-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev libyaml-cpp-dev
   libmujoco-dev libqhull-dev libgl-dev
-  python3-matplotlib python3-numpy
+  python3-matplotlib python3-numpy python3-h5py
+  liborocos-kdl-dev libkdl-parser-dev liburdfdom-dev libtinyxml-dev
 )
 missing=()
 for p in "${packages[@]}"; do

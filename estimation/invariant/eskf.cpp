@@ -216,7 +216,22 @@ Eskf::Update Eskf::updateFoot(int i, const ContactMeasurement& c, double t, Vect
     if (decision == engineering::FootGate::Decision::kGate) return Update::kGated;
     if (decision == engineering::FootGate::Decision::kReinitialise) return Update::kReinitialise;
   }
-  const Matrix27x3 K = PHt.lazyProduct(llt.solve(Matrix3::Identity()));
+  Matrix27x3 K = PHt.lazyProduct(llt.solve(Matrix3::Identity()));
+  if (!params_.feet_correct_yaw) {
+    // The heading stays the gyro's (file comment): K <- (I - E) K. E K is the heading row
+    // psi = up^T K_theta (up = R_hat^T e_z, the vertical in the local error) times the turn of the
+    // robot about its base (up on the attitude, e_z x v on the velocity, e_z x (d_i - p) on the
+    // feet), and the gyro bias's part along up.
+    const Vector3 up = x_.R.matrix().row(2).transpose();
+    const Eigen::RowVector3d psi = up.transpose() * K.middleRows<3>(kTheta);
+    const auto turned = [](const Vector3& x) { return Vector3(-x.y(), x.x(), 0.0); };  // e_z x x
+    K.middleRows<3>(kTheta) -= up * psi;
+    K.middleRows<3>(kV) -= turned(x_.v) * psi;
+    for (int j = 0; j < eskf::kFeet; ++j) {
+      K.middleRows<3>(eskf::footIndex(j)) -= turned(x_.d[j] - x_.p) * psi;
+    }
+    K.middleRows<3>(kBg) -= up * (up.transpose() * K.middleRows<3>(kBg));
+  }
   dx.noalias() += K * r;
 
   // Joseph form (I - K H) P (I - K H)^T + K Cov K^T with A = (I - K H) P = P - K (P H^T)^T:

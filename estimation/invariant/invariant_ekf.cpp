@@ -107,6 +107,7 @@ InvariantEkfParams InvariantEkfParams::hartleyExample() {
   p.sigma_attitude = p.sigma_velocity = p.sigma_position = 1.0;
   p.sigma_gyro_bias = p.sigma_accel_bias = 1.0;
   p.discretisation = Discretisation::kFirstOrder;
+  p.feet_correct_yaw = true;  // the reference lets its feet correct yaw
   p.gravity = Vector3(0.0, 0.0, -9.81);
   return p;
 }
@@ -350,8 +351,25 @@ void InvariantEkf::correctHeldFeet(const StepInput& in) {
       }
     }
     const Eigen::Matrix<double, D, 3> W = U * C_inv.transpose();
-    delta += W * nu_white;
-    P -= W.lazyProduct(W.transpose());
+    if (params_.feet_correct_yaw) {
+      delta += W * nu_white;
+      P -= W.lazyProduct(W.transpose());
+    } else {
+      // The heading stays the gyro's (file comment): K' = (I - E) K, so the correction loses
+      // E W C^-1 nu and P <- P - W W^T + (E W)(E W)^T (Joseph form with K'). E W: the heading
+      // row psi (world z of the rotation) times the turn of the robot about its base, which in
+      // the right-invariant error is e_z on the rotation, 0 on v and -(e_z x p) on p and on
+      // every foot; and the gyro bias's part along up = R_hat^T e_z.
+      Eigen::Matrix<double, D, 3> EW = Eigen::Matrix<double, D, 3>::Zero();
+      const Eigen::RowVector3d psi = W.template middleRows<1>(2);
+      EW.template middleRows<1>(2) = psi;
+      const Vector3 p_turned = Vector3(p.y(), -p.x(), 0.0);  // -(e_z x p)
+      for (int c = 1; c < Nav / 3 - 1; ++c) EW.template middleRows<3>(3 + 3 * c) = p_turned * psi;
+      const Vector3 up = R.row(2).transpose();
+      EW.template middleRows<3>(Nav) = up * (up.transpose() * W.template middleRows<3>(Nav));
+      delta += (W - EW) * nu_white;
+      P -= W.lazyProduct(W.transpose()) - EW.lazyProduct(EW.transpose());
+    }
     corrected = true;
   }
   if (!corrected) return;

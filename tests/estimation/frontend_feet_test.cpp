@@ -11,6 +11,7 @@
 #include "estimation/log_frontend.hpp"
 #include "eval/metrics.hpp"
 #include "eval/runner.hpp"
+#include "model/quadruped_leg_kinematics.hpp"
 #include "trot_log.hpp"
 
 using namespace legkit;
@@ -36,25 +37,6 @@ io::Log footColumnLog(const io::Log& joints) {
   }
   return log;
 }
-
-// The analytic Go2 behind the generic interface, joint k = 3 leg + j (the robot owner's
-// model/quadruped_leg_kinematics.hpp will be the kit's; this one is the test's).
-class TinyQuadrupedLegs final : public model::LegKinematics {
- public:
-  int numFeet() const override { return io::kNumLegs; }
-  int numJoints() const override { return io::kNumJoints; }
-  std::string footName(int foot) const override { return io::kLegNames[foot]; }
-  void foot(int foot, const model::LegJointVector& q, Eigen::Vector3d& p_B,
-            model::FootJacobian& J) const override {
-    const Eigen::Vector3d q_leg = q.segment<3>(3 * foot);
-    p_B = kinematics_.footPosition(foot, q_leg);
-    J.setZero();
-    J.block<3, 3>(0, 3 * foot) = kinematics_.footJacobian(foot, q_leg);
-  }
-
- private:
-  model::QuadrupedKinematics kinematics_;
-};
 
 io::Log genericJointLog(const io::Log& joints) {
   io::Log log = joints;
@@ -215,7 +197,7 @@ TEST_CASE("leg odometry never runs silently on nothing", "[57.11][frontend]") {
 TEST_CASE("generic joints: a LegKinematics gives the quadruped path's feet", "[57.11][frontend]") {
   const io::Log joints = test::trotLog(2.0, 5, false);
   const io::Log generic = genericJointLog(joints);
-  const TinyQuadrupedLegs legs;
+  const model::QuadrupedLegKinematics legs;  // joint k = 3 leg + j
   const LogFrontend quadruped(joints.layout, model::QuadrupedKinematics());
   const LogFrontend frontend(generic.layout, legs);
   for (std::size_t k : {std::size_t{0}, std::size_t{333}, std::size_t{1500}}) {

@@ -81,3 +81,48 @@ TEST_CASE("legkit run --config: the file picks the estimators, the command line 
   // The invariant EKF comes first, as the file lists it.
   CHECK(summary.find("\"invariant-ekf\"") < summary.find("\"linear-kf\""));
 }
+
+TEST_CASE("legkit config --check loads the robot model; legkit robot shows it", "[cli][robot]") {
+  const legkit::test::ScratchFolder dir("config_cli_robot");
+  // A model that is not there, and a foot the model does not have: the check says so (exit 2), as
+  // the run would, naming the settings file and the model.
+  write(dir.path / "missing.yaml", "robot:\n  model: nowhere.urdf\n  base: trunk\n  feet: [f]\n");
+  Result r = runLegkit(dir.path, {"config", "--check", "missing.yaml"});
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output, Contains("missing.yaml: robot model '") && Contains("nowhere.urdf") &&
+                           Contains("cannot open the file"));
+  const std::string go1 = LEGKIT_SOURCE_DIR "/data/robots/unitree/go1.urdf";
+  write(dir.path / "nofoot.yaml",
+        "robot:\n  model: " + go1 + "\n  base: trunk\n  feet: [FL_foot, toe]\n");
+  r = runLegkit(dir.path, {"config", "--check", "nofoot.yaml"});
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output, Contains("no site or body named 'toe' for a foot"));
+
+  // The shipped Go1 (its URDF names meshes that are not shipped): joints in column order, the
+  // mass of its <inertial> elements, feet at zero angles and at given ones.
+  const std::string settings = LEGKIT_SOURCE_DIR "/config/robots/go1.yaml";
+  r = runLegkit(dir.path, {"config", "--check", settings});
+  CHECK(r.status == 0);
+  CHECK(r.output == "ok\n");
+  r = runLegkit(dir.path,
+                {"robot", settings, "--angles", "0,0.8,-1.6,0,0.8,-1.6,0,0.8,-1.6,0,0.8,-1.6"});
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Contains("mass    13.101 kg") && Contains("joint0_q   FL_hip_joint") &&
+                           Contains("joint11_q  RR_calf_joint"));
+  // At zero angles the leg hangs straight: thigh + calf = 0.426 m below the hip; at thigh 0.8 and
+  // calf -1.6 the foot is under the hip, 2 * 0.213 cos(0.8) = 0.2968 m below it.
+  CHECK_THAT(r.output, Contains("foot0  FL_foot   0.1881   0.1268  -0.4260") &&
+                           Contains("foot3  RR_foot  -0.1881  -0.1268  -0.2968"));
+  r = runLegkit(dir.path, {"robot", settings, "--angles", "1,2"});
+  CHECK(r.status == 1);
+  CHECK_THAT(r.output, Contains("2 angles given") && Contains("has 12 joints"));
+
+  // A log whose joints are not the robot's: the quadruped's own columns against the Go1's
+  // generic joints.
+  r = runLegkit(dir.path, {"sim", "--scenario", "trot", "--duration", "0.1", "--out", "trot.csv"});
+  REQUIRE(r.status == 0);
+  r = runLegkit(dir.path, {"robot", settings, "--log", "trot.csv"});
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output, Contains("trot.csv: the log's joints are not the robot's") &&
+                           Contains("has 12 joints (joint0_q .. joint11_q, robot.joints)"));
+}

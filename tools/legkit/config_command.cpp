@@ -1,6 +1,7 @@
 #include "config_command.hpp"
 
 #include "estimation/settings.hpp"
+#include "model/mujoco_kinematics.hpp"
 #include "output.hpp"
 
 namespace legkit::tools {
@@ -12,9 +13,10 @@ ConfigCommand::ConfigCommand(CLI::App& app)
   CLI::Option* print =
       c.add_flag("--print", print_, "Write the default settings, every key documented, to stdout");
   // Not CLI::ExistingFile: a file that cannot be read is an input error (exit 2) like a bad one.
-  CLI::Option* check = c.add_option("--check", check_,
-                                    "Read this settings file: print 'ok', or the error naming its "
-                                    "line and key (exit 2)");
+  CLI::Option* check =
+      c.add_option("--check", check_,
+                   "Read this settings file and load its robot model: print 'ok', or "
+                   "the error naming its line and key (exit 2)");
   print->excludes(check);
   c.require_option(1);
 }
@@ -24,7 +26,15 @@ int ConfigCommand::run(std::ostream& out) const {
     out << settingsYaml(defaultSettings());
     return kExitOk;
   }
-  loadSettings(check_);  // throws io::ConfigError: main prints it and exits 2
+  // Throws io::ConfigError, or the model's error for a robot section the run would refuse: main
+  // prints it and exits 2.
+  const Settings settings = loadSettings(check_);
+  const RobotSettings& robot = settings.robot;
+  try {
+    model::makeLegKinematics(robot.model, robot.base, robot.feet, robot.joints);
+  } catch (const std::runtime_error& e) {
+    throw InputError(check_ + ": " + e.what());
+  }
   out << "ok\n";
   return kExitOk;
 }

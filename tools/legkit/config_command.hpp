@@ -1,6 +1,7 @@
 // `legkit config`: the settings file (estimation/settings.hpp).
 //   legkit config --print             the defaults, every key with its meaning and unit
-//   legkit config --check my.yaml     "ok", or the first error as file:line: key: what (exit 2)
+//   legkit config --check my.yaml     "ok", or the first error as file:line: key: what (exit 2);
+//                                     the robot model is loaded too, as a run would
 #pragma once
 
 #include <CLI/CLI.hpp>

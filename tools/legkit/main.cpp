@@ -16,6 +16,7 @@
 #include "cassie_command.hpp"
 #include "config_command.hpp"
 #include "lie_accuracy.hpp"
+#include "robot_command.hpp"
 #include "run_command.hpp"
 #include "sim_command.hpp"
 #include "tour.hpp"
@@ -68,10 +69,12 @@ int main(int argc, char** argv) {
 
   legkit::tools::SimCommand sim(app);
   // Listed for --help; `legkit study ...` never reaches the parser (runStudyProgram).
-  app.add_subcommand("study", "Monte Carlo studies behind the chapters' figures (legkit study --help)");
+  app.add_subcommand("study",
+                     "Monte Carlo studies behind the chapters' figures (legkit study --help)");
   legkit::tools::CassieCommand cassie(app);
   legkit::tools::AllanCommand allan(app);
   legkit::tools::ConfigCommand config(app);
+  legkit::tools::RobotCommand robot(app);
 
   try {
     app.parse(argc, argv);
@@ -88,6 +91,7 @@ int main(int argc, char** argv) {
     if (cassie.parsed()) return cassie.run(std::cout);
     if (allan.parsed()) return allan.run(std::cout);
     if (config.parsed()) return config.run(std::cout);
+    if (robot.parsed()) return robot.run(std::cout);
   } catch (const UsageError& e) {  // e.g. an unknown leg or a malformed --dropout
     std::cerr << "legkit: " << e.what() << "\n";
     return kExitUsage;
