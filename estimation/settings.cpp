@@ -294,8 +294,7 @@ const std::vector<Node>& schema() {
                flag(
                    "correct_yaw", [](S& s) -> bool& { return s.feet.correct_yaw; },
                    "stance feet may correct the heading (yaw and the gyro bias about the "
-                   "vertical) in the ESKF and the InEKF, which they cannot observe: false keeps "
-                   "the gyro's heading")}),
+                   "vertical), which they cannot observe: false keeps the gyro's heading")}),
       section(
           "linear_kf", "The linear KF of section 57.4 and its attitude filter",
           {number(
@@ -608,6 +607,7 @@ std::unique_ptr<Estimator> makeEstimator(const std::string& name, const Settings
     p.sigma_position = s.priors.sigma_position;
     p.sigma_gyro_bias = s.priors.sigma_gyro_bias;
     p.sigma_accel_bias = s.priors.sigma_accel_bias;
+    p.feet_correct_yaw = s.feet.correct_yaw;
     p.gating = s.gating;
   };
   if (name == "imu-dead-reckoning") return std::make_unique<imu::DeadReckoningEstimator>(s.limits);
@@ -643,14 +643,12 @@ std::unique_ptr<Estimator> makeEstimator(const std::string& name, const Settings
     priors(p);
     p.foot_stance_density = s.feet.stance_density;
     p.foot_init_sigma = s.priors.foot_init_sigma;
-    p.feet_correct_yaw = s.feet.correct_yaw;
     return std::make_unique<invariant::Eskf>(p);
   }
   if (name == "invariant-ekf") {
     invariant::InvariantEkfParams p;
     priors(p);
     p.foot_density = s.feet.stance_density;
-    p.feet_correct_yaw = s.feet.correct_yaw;
     p.discretisation = s.invariant_ekf.discretisation;
     p.touchdown_attitude = s.invariant_ekf.touchdown_attitude;
     return std::make_unique<invariant::InvariantEkf>(p);

@@ -22,14 +22,16 @@ std::vector<std::string> physicsScenarioNames() {
 }
 
 // The imperfections of a Go2-class robot as built (sim/robot_imperfections.hpp), each a figure
-// of such robots' hardware: links 3 % longer than the model (cast and machined links, and the
-// model's foot centre off the rubber foot's rolling point, are off by millimetres on a 0.21 m
-// link); joint zeros calibrated to 0.01 rad (0.6 deg, an eye-and-jig calibration); gear play of
-// 0.003 rad (0.17 deg, a planetary reducer's); a 14-bit joint-side encoder (2 pi / 2^14 =
-// 3.8e-4 rad); encoders 2 ms behind the IMU (a control loop's transport and filter delay); the
-// IMU sampled at 500 Hz in the 1 kHz log (held samples, as a 200 Hz IMU in a 400 Hz log);
-// rubber feet with a contact time constant of 0.05 s (2.5 times MuJoCo's default stiffness
-// time: they sink and roll under load).
+// of such robots' hardware. Links 8 % longer than the model: it stands for every way a real
+// leg's stance displacement differs from its model's (links a few percent off, the rubber foot's
+// rolling radius and squash that the model's point foot lacks); with the rest below, the legs
+// read the speed 5.4 % short here (a real Go1's log: 14 %), and the plain ESKF and InEKF lose yaw
+// 4 times faster than the gyro (the real Go1: 4-5 times). Joint zeros calibrated to 0.01 rad
+// (0.6 deg, an eye-and-jig calibration); gear play of 0.003 rad (0.17 deg, a planetary
+// reducer's); a 14-bit joint-side encoder (2 pi / 2^14 = 3.8e-4 rad); encoders 2 ms behind the
+// IMU (a control loop's transport and filter delay); the IMU sampled at 500 Hz in the 1 kHz log
+// (held samples, as a 200 Hz IMU in a 400 Hz log); rubber feet with a contact time constant of
+// 0.05 s (2.5 times MuJoCo's default: they sink and roll under load).
 RobotImperfections realRobot() {
   RobotImperfections r;
   r.link_length_error = 0.08;

@@ -134,6 +134,25 @@ void forgetFoot(Matrix27& Lambda, int i) {
   Lambda.middleCols<3>(f).setZero();
 }
 
+// The heading rule (eskf.hpp's "Heading" paragraph) at x: E = V B^T. B's columns pick the
+// heading psi = up^T dtheta (up = R^T e_z, the vertical in the local error) and the gyro bias
+// along up; V's are the turn of the robot about its base (up on the attitude, e_z x v on the
+// velocity, e_z x (d_i - p) on the feet) and up on the gyro bias.
+struct Heading {
+  Eigen::Matrix<double, kDim, 2> B = Eigen::Matrix<double, kDim, 2>::Zero();
+  Eigen::Matrix<double, kDim, 2> V = Eigen::Matrix<double, kDim, 2>::Zero();
+};
+Heading heading(const State& x) {
+  const Eigen::Vector3d up = x.R.matrix().row(2).transpose();
+  const auto turned = [](const Eigen::Vector3d& a) { return Eigen::Vector3d(-a.y(), a.x(), 0.0); };
+  Heading h;
+  h.B.col(0).segment<3>(kTheta) = h.V.col(0).segment<3>(kTheta) = up;
+  h.V.col(0).segment<3>(kV) = turned(x.v);
+  for (int i = 0; i < kFeet; ++i) h.V.col(0).segment<3>(footIndex(i)) = turned(x.d[i] - x.p);
+  h.B.col(1).segment<3>(kBg) = h.V.col(1).segment<3>(kBg) = up;
+  return h;
+}
+
 // A bias with zero random walk is constant, b_{k+1} = b_k: an infinite weight on r_b that the
 // normal equations cannot hold. Instead the pair shares one bias. The substitution
 // dx0_b = dx1_b (H' = T^T H T) folds x_k's bias rows and columns (its prior, the IMU residual's
@@ -395,6 +414,9 @@ void Tsif::step(const StepInput& raw) {
   ImuResidual e;                                      // the IMU residual and its Jacobians
   Matrix27 H_kin;                                     // the kinematics residuals' information on x1
   Eigen::Vector3d dtheta1 = Eigen::Vector3d::Zero();  // the attitude step of x1
+  bool feet_used = false;                             // a kinematics residual is in the problem
+  for (int i = 0; i < kFeet; ++i) feet_used = feet_used || kinematics[i];
+  State x1_linearised = x1;  // where the last iteration linearised (H_kin's point)
   for (int iteration = 0; iteration < params_.iterations; ++iteration) {
     // Normal equations [H11 H12; H12^T H22] [dx0; dx1] = -[b1; b2].
     Matrix27 H11, H12, H22;
@@ -470,13 +492,18 @@ void Tsif::step(const StepInput& raw) {
       finishStep(in, imu_admitted);
       return;
     }
-    const Vector27 dx1 = -llt22.solve(b2 - Y.transpose() * z);  // S dx1 = -(b2 - H21 H11^-1 b1)
-    Vector27 dx0 = -(z + Y * dx1);                              // H11 dx0 = -(b1 + H12 dx1)
+    Vector27 dx1 = -llt22.solve(b2 - Y.transpose() * z);  // S dx1 = -(b2 - H21 H11^-1 b1)
+    if (!params_.feet_correct_yaw && feet_used) {         // the heading rule: dx1 <- (I - E) dx1
+      const Heading h = heading(x1);
+      dx1 -= h.V * (h.B.transpose() * dx1);
+    }
+    Vector27 dx0 = -(z + Y * dx1);  // H11 dx0 = -(b1 + H12 dx1)
     llt11.matrixU().solveInPlace(dx0);
     // A shared (constant) bias moves in both states.
     if (params_.imu.gyro_bias_random_walk == 0.0) dx0.segment<3>(kBg) = dx1.segment<3>(kBg);
     if (params_.imu.accel_bias_random_walk == 0.0) dx0.segment<3>(kBa) = dx1.segment<3>(kBa);
     x0 = x0.plus(dx0);
+    x1_linearised = x1;
     x1 = x1.plus(dx1);
     dtheta1 = dx1.segment<3>(kTheta);
   }
@@ -486,7 +513,29 @@ void Tsif::step(const StepInput& raw) {
   // The new information: S again, but in covariance form (betweenMarginal), where rounding does
   // not eat the small information of the unobservable states.
   Lambda_ = betweenMarginal(H_prior, e, params_.imu, dt, foot_variance_density, touched_down);
-  Lambda_ += H_kin;
+  if (!params_.feet_correct_yaw && feet_used) {
+    // The heading rule's covariance, P+ = P_opt + V C V^T (eskf.hpp: P - Q + E Q E^T, with
+    // Q = P_pred - P_opt and E = V B^T), C = B^T Q B the 2 x 2 that the feet took from the
+    // heading, in information form by the inversion lemma: Lambda+ = Lambda_opt - Lambda_opt V
+    // C (I + V^T Lambda_opt V C)^-1 V^T Lambda_opt. A forgotten foot (no information yet) is
+    // decoupled from the heading: an identity block stands in for it in Lambda_pred.
+    const Heading h = heading(x1_linearised);
+    Matrix27 Lambda_pred = Lambda_;
+    for (int i = 0; i < kFeet; ++i) {
+      const int f = footIndex(i);
+      if (Lambda_pred.middleRows<3>(f).isZero(0.0)) Lambda_pred.block<3, 3>(f, f).setIdentity();
+    }
+    const Matrix27 Lambda_opt = Lambda_ + H_kin;
+    const Eigen::Matrix<double, kDim, 2> PB_pred = Lambda_pred.llt().solve(h.B);
+    const Eigen::Matrix<double, kDim, 2> PB_opt = Lambda_opt.llt().solve(h.B);
+    Eigen::Matrix2d C = h.B.transpose() * (PB_pred - PB_opt);
+    C = 0.5 * (C + C.transpose()).eval();
+    const Eigen::Matrix<double, kDim, 2> LV = Lambda_opt * h.V;
+    const Eigen::Matrix2d inner = Eigen::Matrix2d::Identity() + h.V.transpose() * LV * C;
+    Lambda_ = Lambda_opt - LV * C * inner.inverse() * LV.transpose();
+  } else {
+    Lambda_ += H_kin;
+  }
   // That information is in the tangent at x1 before its step; moved to the tangent at x1 (+) dx1
   // (the ESKF's reset): dtheta+ = G dtheta, G = I - [dtheta1 / 2]_x, so Lambda <- G^-T Lambda G^-1.
   const Eigen::Matrix3d G_inv =

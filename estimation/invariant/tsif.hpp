@@ -71,6 +71,15 @@
 // touchdowns a second it added up, and over 300 s made the filter over-confident in position
 // (ANEES/dof 3.5 on 2 runs; chapter 57.10).
 //
+// Heading (feet_correct_yaw = false, the kit's default; why: eskf.hpp's "Heading" paragraph).
+// The Gauss-Newton step of x_{k+1} loses its heading part, dx1 <- (I - E) dx1 with E = V B^T
+// (B picks the heading about the vertical and the gyro bias along it, V turns the robot about its
+// base), and the new information is that of the ESKF's Joseph covariance P_opt + V C V^T, where
+// C = B^T (P_pred - P_opt) B is the 2 x 2 the feet would have taken from the heading: by the
+// inversion lemma, Lambda = Lambda_opt - Lambda_opt V C (I + V^T Lambda_opt V C)^-1 V^T Lambda_opt,
+// two 27 x 27 solves with two right-hand sides. With one iteration the TSIF then still equals
+// the ESKF (physics-real: the same 0.092 m and 1.44 deg).
+//
 // Gating (section 57.9, GatingParams, off by default). The TSIF has no innovation in the EKF's
 // sense: the kinematics residual is one term of a joint solve. Its stand-in is the residual at the
 // IMU prediction of x_{k+1}, before any kinematics enter, r_i = R^T (d_i - p) - p_body, tested
@@ -150,6 +159,9 @@ struct TsifParams {
   double foot_swing_density = 2.0;               // a swing foot's weak random walk [m/sqrt(s)]
   double foot_init_sigma = 1.0;                  // prior of the (unknown) feet at reset [m]
   int iterations = 1;                            // Gauss-Newton iterations per step (1 or 2)
+  // Whether stance feet may correct the heading (yaw and the gyro bias about the vertical):
+  // false, the kit's, they may not (eskf.hpp's "Heading" paragraph); true: the plain filter.
+  bool feet_correct_yaw = false;
   // Prior of the state at reset (standard deviations; attitude per axis, local frame).
   double sigma_attitude = 0.01;    // [rad]
   double sigma_velocity = 0.05;    // [m/s]
