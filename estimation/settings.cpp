@@ -294,7 +294,8 @@ const std::vector<Node>& schema() {
                flag(
                    "correct_yaw", [](S& s) -> bool& { return s.feet.correct_yaw; },
                    "stance feet may correct the heading (yaw and the gyro bias about the "
-                   "vertical), which they cannot observe: false keeps the gyro's heading")}),
+                   "vertical), which they cannot observe: false keeps the gyro's heading (the "
+                   "heading rule of section 57.5)")}),
       section(
           "linear_kf", "The linear KF of section 57.4 and its attitude filter",
           {number(

@@ -107,7 +107,6 @@ InvariantEkfParams InvariantEkfParams::hartleyExample() {
   p.sigma_attitude = p.sigma_velocity = p.sigma_position = 1.0;
   p.sigma_gyro_bias = p.sigma_accel_bias = 1.0;
   p.discretisation = Discretisation::kFirstOrder;
-  p.feet_correct_yaw = true;  // the reference lets its feet correct yaw
   p.gravity = Vector3(0.0, 0.0, -9.81);
   return p;
 }

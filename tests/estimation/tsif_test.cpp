@@ -474,7 +474,7 @@ TEST_CASE("TSIF: with very accurate kinematics it gains yaw information it canno
   // moves the linearisation point, the Jacobians of successive steps no longer share the yaw
   // null space, and with kinematics weighted at 0.01 mm the plain filter's yaw sigma collapses
   // within 50 ms (the observability mismatch of EKF-type filters). The heading rule (tsif.hpp,
-  // the default) takes no heading from the feet: its yaw sigma only grows.
+  // feet_correct_yaw = false) takes no heading from the feet: its yaw sigma only grows.
   FrontendNoise accurate;
   accurate.foot_point_sigma = 1e-5;
   for (const bool plain : {true, false}) {

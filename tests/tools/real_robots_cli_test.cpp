@@ -68,15 +68,16 @@ TEST_CASE("The shipped iCub log: every filter within 3.5 cm, yaw the gyro's, ANE
   CHECK(t.at("leg-odometry").position < 0.1);
 }
 
-TEST_CASE("physics-real: heading corrections from the feet lose yaw; the default keeps the gyro's",
-          "[cli][real-robot][physics]") {
+TEST_CASE(
+    "physics-real: heading corrections from the feet lose yaw; the heading rule keeps the gyro's",
+    "[cli][real-robot][physics]") {
   const test::ScratchFolder dir("physics_real_cli");
-  std::ofstream(dir.path / "yaw.yaml") << "feet:\n  correct_yaw: true\n";
+  std::ofstream(dir.path / "rule.yaml") << "feet:\n  correct_yaw: false\n";
   std::string output;
   std::map<std::string, Row> plain, kit;
-  REQUIRE(runLegkit(dir.path, {"--scenario", "physics-real", "--config", "yaw.yaml"}, plain,
+  REQUIRE(runLegkit(dir.path, {"--scenario", "physics-real"}, plain, output) == 0);
+  REQUIRE(runLegkit(dir.path, {"--scenario", "physics-real", "--config", "rule.yaml"}, kit,
                     output) == 0);
-  REQUIRE(runLegkit(dir.path, {"--scenario", "physics-real"}, kit, output) == 0);
   const double gyro_yaw = kit.at("imu-dead-reckoning").yaw;
   for (const char* name : {"eskf", "invariant-ekf"}) {
     INFO(name << ": yaw " << plain.at(name).yaw << " deg with heading corrections, "
