@@ -3,8 +3,10 @@
 //   legkit robot my.yaml                      model, base, mass, joints in log-column order, feet
 //                                             in the base frame at zero angles
 //   legkit robot my.yaml --angles 0,0.8,-1.6  the feet at those angles too (joint order above)
-//   legkit robot my.yaml --log run.csv        refuses a log whose joints are not the robot's; the
-//                                             feet at the log's first row
+//   legkit robot my.yaml --log run.csv        refuses a log whose joint columns are not the
+//                                             robot's in kind (generic or the quadruped's) or in
+//                                             number (names are not in a log); the feet at its
+//                                             first row
 #pragma once
 
 #include <CLI/CLI.hpp>
