@@ -365,7 +365,21 @@ const std::vector<Node>& schema() {
                    "joint encoder noise [rad]"),
                number(
                    "foot_point_sigma", [](S& s) -> double& { return s.frontend.foot_point_sigma; },
-                   0, 0.1, "the contact point on a round foot [m]")}),
+                   0, 0.1, "the contact point on a round foot [m]"),
+               choice<StampHandling>(
+                   "timestamps", [](S& s) -> StampHandling& { return s.conditioning.stamps; },
+                   {{StampHandling::kAuto, "auto"},
+                    {StampHandling::kLogged, "logged"},
+                    {StampHandling::kSmoothed, "smoothed"}},
+                   "a recorded log's stamps: smoothed (a line fitted over 21 rows), logged, or "
+                   "auto: smoothed when the row interval jitters by more than 10 %"),
+               choice<JointVelocitySource>(
+                   "joint_velocities",
+                   [](S& s) -> JointVelocitySource& { return s.conditioning.joint_velocities; },
+                   {{JointVelocitySource::kLogged, "logged"},
+                    {JointVelocitySource::kAngles, "angles"}},
+                   "a recorded log's joint velocities: as logged, or the angles' backward "
+                   "difference")}),
       section(
           "robot", "The robot whose legs the log's joints describe",
           {text(

@@ -16,6 +16,7 @@
 #include "estimation/estimator.hpp"
 #include "estimation/health.hpp"
 #include "estimation/invariant/invariant_ekf.hpp"
+#include "estimation/log_conditioning.hpp"
 #include "estimation/log_frontend.hpp"
 #include "model/imu_extrinsic.hpp"
 #include "model/imu_noise.hpp"
@@ -84,6 +85,7 @@ struct Settings {
   model::ImuExtrinsic imu_extrinsic;  // the IMU's pose in the base frame
   InputLimits limits;
   FrontendNoise frontend;
+  LogConditioning conditioning;  // a recorded log's stamps and joint velocities (frontend:)
   RobotSettings robot;
   std::vector<std::string> estimators;  // which run, in this order (empty: every one)
   // Contact source, slip reaction, settling, rolling foot. The defaults are a robot's (and

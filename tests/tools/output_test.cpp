@@ -81,6 +81,11 @@ TEST_CASE("output: a failing plot script is reported with what it said", "[cli]"
   CHECK_THAT(message, Catch::Matchers::StartsWith("plots FAILED: no-such-script.py exited"));
   CHECK_THAT(message, Catch::Matchers::Contains("No such file"));
   CHECK_THAT(message, !Catch::Matchers::Contains("matplotlib"));
+  // A failure is an output not written (the commands exit 2); plots left undrawn for want of
+  // matplotlib are said, not failed.
+  CHECK(plotFailed(message));
+  CHECK_FALSE(plotFailed(""));
+  CHECK_FALSE(plotFailed("plots not drawn: python3-matplotlib is not installed"));
 }
 
 TEST_CASE("output: a table's columns never run together", "[cli]") {

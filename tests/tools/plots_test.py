@@ -1,6 +1,7 @@
 """The plot scripts' own logic (tools/plots): one colour per estimator, the trajectory framed on the
 estimators that follow the truth, the velocity error as an RMS per window, thinned estimate files
-matched to the log by time, and every figure of a run drawn from thinned files.
+matched to the log by time, the attitude errors, a pose-only truth with dropouts (gt_valid = 0),
+and every figure of a run drawn from thinned files.
 
 Run: LEGKIT=build/legkit /usr/bin/python3 tests/tools/plots_test.py  (ctest does this)
 """
@@ -59,6 +60,11 @@ class Framing(unittest.TestCase):
         bad = (t.copy(), np.where(t > 0.5, np.nan, 0.0))
         self.assertEqual(run_plots.off_frame((t, 0 * t), {"x": bad}), {"x"})
 
+    def test_a_truth_with_gaps_is_compared_where_it_is_known(self):
+        t = np.linspace(0.0, 1.0, 11)
+        truth = (t.copy(), np.where((t > 0.3) & (t < 0.6), np.nan, 0.0))
+        self.assertEqual(run_plots.off_frame(truth, {"x": (t, 0 * t)}), set())
+
 
 class Errors(unittest.TestCase):
     def test_rms_per_window(self):
@@ -67,6 +73,41 @@ class Errors(unittest.TestCase):
         centres, rms = run_plots.rms_per_window(t, x, 1.0)
         np.testing.assert_allclose(centres, [0.5, 1.5])
         np.testing.assert_allclose(rms, [1.0, 3.0])
+
+    def test_a_window_without_truth_breaks_the_rms_line(self):
+        t = np.arange(3000) / 1000.0
+        x = np.where(t < 1.0, 1.0, np.where(t < 2.0, np.nan, 2.0))
+        x[500] = np.nan  # and a single masked row elsewhere is left out of its window
+        centres, rms = run_plots.rms_per_window(t, x, 1.0)
+        np.testing.assert_allclose(centres, [0.5, 1.5, 2.5])
+        np.testing.assert_allclose(rms, [1.0, np.nan, 2.0])
+
+    def test_roll_pitch_and_wrapped_yaw_errors(self):
+        def q(roll, yaw):  # [deg], R = Rz(yaw) Rx(roll)
+            r, y = np.radians(roll) / 2, np.radians(yaw) / 2
+            return [np.cos(y) * np.cos(r), np.cos(y) * np.sin(r), np.sin(y) * np.sin(r),
+                    np.sin(y) * np.cos(r)]
+        tilt, yaw = run_plots.attitude_errors(np.array([q(5, 100), q(0, 175), q(0, 180)]),
+                                              np.array([q(0, 100), q(0, -175), q(0, 0)]))
+        np.testing.assert_allclose(tilt, [5.0, 0.0, 0.0], atol=1e-6)
+        np.testing.assert_allclose(yaw, [0.0, -10.0, -180.0], atol=1e-6)
+
+    def test_a_pose_only_truth_is_differentiated_over_its_valid_rows(self):
+        t = np.arange(101) / 100.0
+        valid = (t < 0.4) | (t > 0.6)
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "log.csv")
+            with open(path, "w") as f:
+                f.write("t,gt_px,gt_py,gt_pz,gt_qw,gt_qx,gt_qy,gt_qz,gt_valid\n")
+                for k in range(len(t)):  # a dropout may hold any values: here a jump
+                    x = 2.0 * t[k] if valid[k] else 50.0
+                    f.write(f"{t[k]},{x},0,0.3,1,0,0,0,{int(valid[k])}\n")
+            truth = run_plots.read_truth(path)
+        np.testing.assert_array_equal(truth["valid"], valid)
+        self.assertTrue(np.all(np.isnan(truth["gt_px"][~valid])))
+        self.assertTrue(np.all(np.isnan(truth["gt_vx"][~valid])))
+        np.testing.assert_allclose(truth["gt_vx"][valid], 2.0)  # one-sided beside the dropout
+        np.testing.assert_allclose(truth["gt_vy"][valid], 0.0)
 
     def test_thinned_estimates_meet_the_log_row_of_their_time(self):
         log_t = 2.0 + np.arange(3001) / 1000.0
@@ -77,10 +118,20 @@ class Errors(unittest.TestCase):
 
 class Figures(unittest.TestCase):
     def test_every_figure_of_a_run_from_thinned_estimate_files(self):
+        self.every_figure(pose_only=False)
+
+    def test_every_figure_of_a_run_on_a_pose_only_truth_with_a_dropout(self):
+        self.every_figure(pose_only=True)
+
+    def every_figure(self, pose_only):
         rate, duration = 1000, 3.0
         t = np.arange(int(rate * duration) + 1) / rate
         gt = {"gt_px": 0.5 * t, "gt_py": 0 * t, "gt_pz": 0.3 + 0 * t,
-              "gt_vx": 0.5 + 0 * t, "gt_vy": 0 * t, "gt_vz": 0 * t}
+              "gt_qw": 1 + 0 * t, "gt_qx": 0 * t, "gt_qy": 0 * t, "gt_qz": 0 * t}
+        if pose_only:  # as a motion-capture log: no velocity, and 0.5 s without truth
+            gt["gt_valid"] = np.where((t > 1.0) & (t < 1.5), 0, 1)
+        else:
+            gt.update({"gt_vx": 0.5 + 0 * t, "gt_vy": 0 * t, "gt_vz": 0 * t})
         with tempfile.TemporaryDirectory() as folder:
             with open(os.path.join(folder, "log.csv"), "w") as f:
                 f.write("# a made-up log: only the columns the plots read\n")
@@ -104,13 +155,31 @@ class Figures(unittest.TestCase):
                             row += [0.01] * 9 + [9.0]
                         f.write(",".join(f"{v:.10g}" for v in row) + "\n")
             run_plots.main(folder, os.path.join(folder, "log.csv"))
-            for png in ("trajectory-top.png", "errors.png", "bounds.png", "nees.png"):
+            for png in ("trajectory-top.png", "errors.png", "attitude.png", "bounds.png",
+                        "nees.png"):
                 path = os.path.join(folder, png)
                 self.assertTrue(os.path.exists(path), png)
                 self.assertGreater(os.path.getsize(path), 10000, png)
 
 
 PLOTS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools", "plots")
+SOURCE = os.path.join(PLOTS, "..", "..")
+
+
+class RealLogFigures(unittest.TestCase):
+    def test_the_icub_log_pose_only_truth_with_dropouts_is_drawn(self):
+        legkit = os.environ.get("LEGKIT")
+        if not legkit:
+            self.skipTest("LEGKIT (the legkit program) not given")
+        with tempfile.TemporaryDirectory() as out:
+            subprocess.run([legkit, "run", "--log",
+                            os.path.join(SOURCE, "data", "icub-walking", "walking.csv"),
+                            "--config", os.path.join(SOURCE, "config", "robots", "icub.yaml"),
+                            "--out", out], capture_output=True, check=True)
+            with open(os.path.join(out, "summary.json")) as f:
+                self.assertEqual(json.load(f)["plots"], "drawn")
+            for png in ("trajectory-top.png", "errors.png", "attitude.png", "bounds.png"):
+                self.assertGreater(os.path.getsize(os.path.join(out, png)), 10000, png)
 
 
 class PhysicsFigures(unittest.TestCase):

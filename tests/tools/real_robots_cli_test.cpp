@@ -45,7 +45,7 @@ int runLegkit(const fs::path& dir, std::vector<std::string> arguments,
 
 }  // namespace
 
-TEST_CASE("The shipped iCub log: every filter within 3.5 cm, yaw the gyro's, ANEES near 1",
+TEST_CASE("The shipped iCub log: every filter within 3 cm, yaw the gyro's, ANEES near 1",
           "[cli][real-robot]") {
   const test::ScratchFolder dir("icub_cli");
   std::map<std::string, Row> t;
@@ -59,13 +59,19 @@ TEST_CASE("The shipped iCub log: every filter within 3.5 cm, yaw the gyro's, ANE
   const double gyro_yaw = t.at("imu-dead-reckoning").yaw;
   for (const char* name : {"eskf", "invariant-ekf"}) {
     INFO(name);
-    CHECK(t.at(name).position < 0.035);
+    CHECK(t.at(name).position < 0.03);
     CHECK(t.at(name).yaw <= gyro_yaw + 0.5);
     // Scored against the differentiated Vicon pose, the Vicon glitch masked.
     CHECK(t.at(name).anees > 0.5);
     CHECK(t.at(name).anees < 2.0);
   }
-  CHECK(t.at("leg-odometry").position < 0.1);
+  // The front end smooths the jittery stamps and differentiates the angles (icub.yaml): leg
+  // odometry 0.033 m; on the recorded joint velocities it was 0.062 m.
+  CHECK_THAT(output, Catch::Matchers::Contains(
+                         "time stamps smoothed (jitter 25 % of the row interval") &&
+                         Catch::Matchers::Contains("joint velocities differentiated from the angles"));
+  CHECK(t.at("leg-odometry").position < 0.045);
+  CHECK(t.at("linear-kf").position < 0.045);
 }
 
 TEST_CASE(

@@ -177,6 +177,7 @@ int AllanCommand::run(std::ostream& out) const {
   if (plots_) {
     const std::string failed = plot("57.10-allan.py", {dir.string()});
     out << (failed.empty() ? ", allan.png\n" : "\n" + failed + "\n");
+    if (plotFailed(failed)) return kExitInput;
   } else {
     out << "\n";
   }

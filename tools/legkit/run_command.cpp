@@ -17,6 +17,7 @@
 #include "estimation/contact/detectors.hpp"
 #include "estimation/contact_pipeline.hpp"
 #include "estimation/estimators.hpp"
+#include "estimation/log_conditioning.hpp"
 #include "estimation/log_frontend.hpp"
 #include "estimation/settings.hpp"
 #include "estimation/slip/slip_guard.hpp"
@@ -41,7 +42,10 @@ namespace fs = std::filesystem;
 // One row per kept row (estimateRows): the estimate and, for a filter, its standard deviations in
 // the BaseCovariance convention (sigma_theta*, sigma_v*, sigma_p*) and its NEES. A comment line
 // gives the NEES degrees of freedom and its single-run 95 % bounds for the plots.
-void writeEstimates(std::ostream& f, const eval::RunResult& run, double rate) {
+// `stamps`, when not empty, are the log's own stamps of its rows (the estimates are one per row),
+// written in place of the smoothed ones the estimators ran on.
+void writeEstimates(std::ostream& f, const eval::RunResult& run, double rate,
+                    const std::vector<double>& stamps) {
   const bool filter = !run.sigma.empty();
   const bool nees = !run.nees.empty();
   if (nees) {
@@ -56,7 +60,7 @@ void writeEstimates(std::ostream& f, const eval::RunResult& run, double rate) {
   f << '\n';
   for (const std::size_t k : estimateRows(run.trajectory, rate)) {
     const EstimateSample& e = run.trajectory[k];
-    f << e.t << ',' << e.p.x() << ',' << e.p.y() << ',' << e.p.z() << ',' << e.q.w() << ','
+    f << (stamps.empty() ? e.t : stamps[k]) << ',' << e.p.x() << ',' << e.p.y() << ',' << e.p.z() << ',' << e.q.w() << ','
       << e.q.x() << ',' << e.q.y() << ',' << e.q.z() << ',' << e.v.x() << ',' << e.v.y() << ','
       << e.v.z();
     if (filter) {
@@ -401,9 +405,19 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   // A physics run whose robot fell (or whose simulation diverged): when and why (its log ends
   // there).
   std::string fall;
+  // A recorded log's conditioning (estimation/log_conditioning.hpp) and its own stamps, which the
+  // estimate files keep.
+  std::optional<ConditioningReport> conditioning;
+  std::vector<double> logged_stamps;
   if (!log_.empty()) {
     log = io::readLog(log_);
     checkTimeBase(log, max_gap_ > 0 ? std::optional<double>(max_gap_) : std::nullopt);
+    for (const io::LogRow& row : log.rows) logged_stamps.push_back(row.t);
+    try {
+      conditioning = condition(log, settings ? settings->conditioning : LogConditioning{});
+    } catch (const std::invalid_argument& e) {
+      throw InputError(log_ + ": " + e.what());
+    }
     source = log_;
   } else if (isPhysicsScenario(scenario_)) {
     sim::PhysicsOptions options;
@@ -526,15 +540,17 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
       r.metrics = eval::compare(log, r.run.trajectory);
     r.contact_scores = contactScores(log, r.run);
     writeAtomically(dir / ("estimate_" + r.run.name + ".csv"),
-                    [&](std::ostream& f) { writeEstimates(f, r.run, estimate_rate_); });
+                    [&](std::ostream& f) { writeEstimates(f, r.run, estimate_rate_, logged_stamps); });
     rows.push_back(std::move(r));
   }
   bool all_ok = true;
   for (const RunRow& r : rows) all_ok = all_ok && r.run.ok();
-  const int status = all_ok && fall.empty() ? kExitOk : kExitUnhealthy;
-
   std::string plot_failure;  // empty: drawn (or not asked for)
   if (plots_) plot_failure = plot("run_plots.py", {dir.string(), "--log", log_path.string()});
+  // A plot that failed is an output not written (2); it outranks an unhealthy estimator (3).
+  const int status = plotFailed(plot_failure) ? kExitInput
+                     : all_ok && fall.empty() ? kExitOk
+                                              : kExitUnhealthy;
   nlohmann::json summary = {
       {"legkit_version", LEGKIT_VERSION},
       {"command", command_line},
@@ -547,6 +563,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
         {"settle_time_s", pipeline_options.settle_time},
         {"training_s", training_s ? nlohmann::json(*training_s) : nlohmann::json(nullptr)},
         {"no_contact_bound_s", pipeline_options.no_contact_bound}}},
+      {"frontend", conditioning ? nlohmann::json(conditioning->describe()) : nlohmann::json(nullptr)},
       {"samples", log.rows.size()},
       {"estimate_rate_hz",
        estimate_rate_ > 0.0 ? nlohmann::json(estimate_rate_) : nlohmann::json("all")},
@@ -564,6 +581,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
     out << "legkit run: " << source << " (" << log.rows.size() << " samples)\n";
     if (settings) out << "settings: " << config_ << "\n";
     out << "contacts: " << contacts << "\n";
+    if (conditioning) out << "front end: " << conditioning->describe() << "\n";
     if (training_s) {
       out << "logistic contact model trained on simulated physics runs (seeds " << seed_ + 1000
           << ".." << seed_ + 1002 << ") in " << cell(*training_s, 1) << " s\n";

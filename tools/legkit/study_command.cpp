@@ -86,10 +86,11 @@ int StudyCommand::run(std::ostream& out) const {
   }
 }
 
-void StudyCommand::plot(std::ostream& out, const std::string& study, const std::string& dir) const {
-  if (!plots_) return;
+int StudyCommand::plot(std::ostream& out, const std::string& study, const std::string& dir) const {
+  if (!plots_) return kExitOk;
   const std::string failed = tools::plot("study_plots.py", {study, dir});
   out << (failed.empty() ? "figure: " + dir + "/" + study + ".png" : failed) << '\n';
+  return plotFailed(failed) ? kExitInput : kExitOk;
 }
 
 // ANEES_k of each filter (with its bounds) over `runs` runs of the default trot, every filter with
@@ -149,8 +150,7 @@ int StudyCommand::consistency(std::ostream& out) const {
          "tenth of the run; inside: the share of samples k whose ANEES_k lies inside the "
          "bounds)\n";
   writeAtomically(dir / "consistency.csv", [&](std::ostream& f) { f << csv.str(); });
-  plot(out, "consistency", dir.string());
-  return 0;
+  return plot(out, "consistency", dir.string());
 }
 
 // Each filter started with its attitude turned by a given angle about a random axis (the same
@@ -247,8 +247,7 @@ int StudyCommand::convergence(std::ostream& out) const {
   }
   printTable(out, rows);
   writeAtomically(dir / "convergence.csv", [&](std::ostream& f) { f << csv.str(); });
-  plot(out, "convergence", dir.string());
-  return 0;
+  return plot(out, "convergence", dir.string());
 }
 
 // The linear KF with one noise variance at a time scaled from 1e-3 to 1e3 times its nominal
@@ -310,8 +309,7 @@ int StudyCommand::sweep(std::ostream& out) const {
   progress.clear();
   printTable(out, table);
   writeAtomically(dir / "sweep.csv", [&](std::ostream& f) { f << csv.str(); });
-  plot(out, "sweep", dir.string());
-  return 0;
+  return plot(out, "sweep", dir.string());
 }
 
 }  // namespace legkit::tools

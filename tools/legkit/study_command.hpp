@@ -36,7 +36,8 @@ class StudyCommand {
   int consistency(std::ostream& out) const;
   int convergence(std::ostream& out) const;
   int sweep(std::ostream& out) const;
-  void plot(std::ostream& out, const std::string& study, const std::string& dir) const;
+  // Draws a study's figure (when asked for); kExitInput when the script failed, else kExitOk.
+  int plot(std::ostream& out, const std::string& study, const std::string& dir) const;
 
   CLI::App* command_;
   CLI::App* consistency_;

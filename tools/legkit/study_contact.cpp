@@ -495,6 +495,7 @@ int StudyContact::contact(std::ostream& out) const {
                                  (dir / "57.6-contact-f1-delay.png").string()
                            : failed)
         << '\n';
+    if (plotFailed(failed)) return kExitInput;
   }
   return 0;
 }
@@ -654,6 +655,7 @@ int StudyContact::slip(std::ostream& out) const {
   if (plots_) {
     const std::string failed = plot("57.7-slip.py", {dir.string()});
     out << (failed.empty() ? "figure: " + (dir / "57.7-slip.png").string() : failed) << '\n';
+    if (plotFailed(failed)) return kExitInput;
   }
   return 0;
 }

@@ -388,6 +388,7 @@ int runStudyFusion(const CLI::App& fusion, std::ostream& out) {
                                  (dir / "57.8-fusion-error.png").string()
                            : failed)
         << '\n';
+    if (plotFailed(failed)) return kExitInput;
   }
   return 0;
 }

@@ -3,10 +3,15 @@
 Usage: /usr/bin/python3 tools/plots/run_plots.py <folder> [--log LOG]
 Reads the run's log (LOG, by default <folder>/log.csv) and every <folder>/estimate_<name>.csv and
 writes <folder>/trajectory-top.png. When the log has ground truth (gt_*) it also writes
-<folder>/errors.png, and, for the filters (estimates with sigma_* columns), <folder>/bounds.png
-(position and velocity errors with their 3-sigma bounds) and <folder>/nees.png (NEES over time
-with the single-run 95 % chi-square bounds). Without ground truth, <folder>/sigma.png shows the
-filters' position and velocity standard deviations instead.
+<folder>/errors.png (position and velocity), <folder>/attitude.png (roll/pitch and yaw) and, for
+the filters (estimates with sigma_* columns), <folder>/bounds.png (position and velocity errors
+with their 3-sigma bounds) and <folder>/nees.png (NEES over time with the single-run 95 %
+chi-square bounds). Without ground truth, <folder>/sigma.png shows the filters' position and
+velocity standard deviations instead.
+
+A real robot's truth may be pose-only (no gt_vx..gt_vz): the velocity errors are then taken
+against the central difference of gt_p, as the run's table does (eval/metrics.hpp), and the
+figures say so. Rows flagged gt_valid = 0 are left out of every error (NaN: the lines break there).
 
 The estimate files may be thinned (`legkit run --estimate-rate`): each estimate is compared with
 the log row nearest in time. Each estimator has one colour in every figure (palette.py).
@@ -25,6 +30,7 @@ from matplotlib.patches import Rectangle  # noqa: E402
 from palette import TRUTH, colour  # noqa: E402
 
 VELOCITY_WINDOW = 1.0  # [s] of each RMS value in errors.png
+DIFFERENCE_WINDOW = 0.05  # [s] of the central difference of a pose-only truth (eval::TruthOptions)
 
 
 def header(path):
@@ -44,6 +50,69 @@ def read_csv(path, columns=None):
     return {c: values[:, i] for i, c in enumerate(wanted)}
 
 
+def central_difference(t, x, valid, window):
+    """dx/dt on the valid rows, (x_b - x_a) / (t_b - t_a) with a, b the valid rows farthest apart in
+    the window centred on the row (one-sided near the ends and dropouts, as eval::truthVelocity);
+    NaN on the other rows and where no other valid row is in the window."""
+    tv, xv = t[valid], x[valid]
+    a = np.searchsorted(tv, tv - 0.5 * window, side="left")
+    b = np.searchsorted(tv, tv + 0.5 * window, side="right") - 1
+    out = np.full(len(t), np.nan)
+    out[valid] = (xv[b] - xv[a]) / np.where(a < b, tv[b] - tv[a], np.nan)
+    return out
+
+
+def read_truth(path):
+    """The log's ground truth {t, gt_p*, gt_q*, gt_v*, valid}, or None if it has none: valid is
+    False on the rows flagged gt_valid = 0, whose gt_* are NaN. A pose-only truth's gt_v* is the
+    central difference of its gt_p*."""
+    names = header(path)
+    if "gt_px" not in names:
+        return None
+    columns = ["gt_p" + a for a in "xyz"] + ["gt_q" + a for a in "wxyz"]
+    if "gt_vx" in names:
+        columns += ["gt_v" + a for a in "xyz"]
+    truth = read_csv(path, ["t"] + columns + (["gt_valid"] if "gt_valid" in names else []))
+    valid = truth.pop("gt_valid") != 0 if "gt_valid" in truth else np.full(len(truth["t"]), True)
+    for c in columns:
+        truth[c][~valid] = np.nan
+    if "gt_vx" not in names:
+        for a in "xyz":
+            truth["gt_v" + a] = central_difference(truth["t"], truth["gt_p" + a], valid,
+                                                   DIFFERENCE_WINDOW)
+    truth["valid"] = valid
+    return truth
+
+
+def truth_notes(truth, differentiated):
+    """(what the velocity errors are against, a line on the truth for the error figures or None)."""
+    notes = []
+    if differentiated:
+        notes.append(f"velocity truth: differentiated gt_p (central difference over "
+                     f"{DIFFERENCE_WINDOW:g} s; the log has no gt_v)")
+    masked = np.sum(~truth["valid"])
+    if masked:
+        notes.append(f"{masked} log rows without truth (gt_valid = 0) left out")
+    return ("differentiated gt_p" if differentiated else "ground truth"), "\n".join(notes) or None
+
+
+def tilt_and_yaw(q):
+    """Per quaternion (w, x, y, z) (rows of q, body to world): the world's up axis seen from the
+    body (R^T z, whose angle between two attitudes is their roll/pitch error) and the heading
+    atan2(R_10, R_00) [rad], as eval::tiltError and eval::yawError."""
+    w, x, y, z = (q / np.linalg.norm(q, axis=1, keepdims=True)).T
+    up = np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=1)
+    return up, np.arctan2(2 * (x * y + w * z), 1 - 2 * (y * y + z * z))
+
+
+def attitude_errors(q_hat, q):
+    """(roll/pitch error, yaw error wrapped to [-180, 180)) [deg] of attitudes q_hat against q."""
+    up_hat, yaw_hat = tilt_and_yaw(q_hat)
+    up, yaw = tilt_and_yaw(q)
+    tilt = np.arctan2(np.linalg.norm(np.cross(up_hat, up), axis=1), np.sum(up_hat * up, axis=1))
+    return np.degrees(tilt), (np.degrees(yaw_hat - yaw) + 180.0) % 360.0 - 180.0
+
+
 def nees_bounds(path):
     """(dof, lower, upper) from the '# nees_dof 9 lower .. upper ..' comment, or None."""
     with open(path) as f:
@@ -60,25 +129,29 @@ def nearest_rows(times, t):
 
 
 def rms_per_window(t, x, window):
-    """(window centres, RMS of x in each window [t0 + k w, t0 + (k + 1) w)) over windows with data."""
+    """(window centres, RMS of the finite x in each window [t0 + k w, t0 + (k + 1) w)) over windows
+    with samples; NaN in one whose x are all NaN (a dropout of the truth: the line breaks there)."""
     k = np.floor((t - t[0]) / window).astype(int)
-    sums = np.bincount(k, weights=x * x)
-    counts = np.bincount(k)
-    filled = counts > 0
+    finite = np.isfinite(x)
+    sums = np.bincount(k[finite], weights=x[finite] ** 2, minlength=k[-1] + 1)
+    counts = np.bincount(k[finite], minlength=k[-1] + 1)
+    filled = np.bincount(k) > 0
     centres = t[0] + (np.arange(len(counts)) + 0.5) * window
-    return centres[filled], np.sqrt(sums[filled] / counts[filled])
+    return centres[filled], np.sqrt(sums / np.where(counts > 0, counts, np.nan))[filled]
 
 
 def off_frame(reference, paths):
     """Names of the paths ({name: (x, y)}) that stray from the reference (x, y, t-matched) by more
     than a quarter of its extent (at least 1 m): drawn at their own scale, they would squash the
-    others into one line."""
+    others into one line. A path must be finite throughout; the reference may have gaps (NaN: rows
+    without truth), where nothing is compared."""
     rx, ry = reference
-    span = max(np.ptp(rx), np.ptp(ry), 4.0)
+    known = np.isfinite(rx) & np.isfinite(ry)
+    span = max(np.ptp(rx[known]), np.ptp(ry[known]), 4.0) if known.any() else 4.0
     far = set()
     for name, (x, y) in paths.items():
-        distance = np.hypot(x - rx, y - ry)
-        if not np.all(np.isfinite(distance)) or distance.max() > 0.25 * span:
+        distance = np.hypot(x - rx, y - ry)[known]
+        if not np.all(np.isfinite(x) & np.isfinite(y)) or np.any(distance > 0.25 * span):
             far.add(name)
     return far
 
@@ -169,22 +242,28 @@ def draw_trajectory(folder, estimates, truth):
     save(fig, folder, "trajectory-top.png")
 
 
-def draw_two_panels(folder, name, titles, ylabels, panels):
-    """A figure of two log-scale panels sharing time, each a list of (estimator, t, y, label)."""
+def draw_two_panels(folder, name, titles, ylabels, panels, note=None, log=True):
+    """A figure of two panels (log-scale unless log is False) sharing time, each a list of
+    (estimator, t, y, label), under the note if one is given."""
     fig, axes = plt.subplots(2, 1, figsize=(10, 6), sharex=True)
     for ax, title, ylabel, curves in zip(axes, titles, ylabels, panels):
         for estimator, t, y, label in curves:
-            ax.semilogy(t, np.maximum(y, 1e-6), color=colour(estimator), lw=1, label=label)
+            if log:
+                ax.semilogy(t, np.maximum(y, 1e-6), color=colour(estimator), lw=1, label=label)
+            else:
+                ax.plot(t, y, color=colour(estimator), lw=1, label=label)
         ax.set_title(title, fontsize=10)
         ax.set_ylabel(ylabel)
         ax.grid(True, which="both", alpha=0.3)
     axes[-1].set_xlabel("t [s]")
     legend_outside(axes[0])
+    if note:
+        fig.suptitle(note, fontsize=9)
     fig.tight_layout()
     save(fig, folder, name)
 
 
-def draw_errors(folder, estimates, truth):
+def draw_errors(folder, estimates, truth, velocity_truth, note):
     """errors.png: |position error| at each written sample, |velocity error| as its RMS per
     VELOCITY_WINDOW (every sample it would be a band of noise)."""
     position, velocity = [], []
@@ -197,8 +276,26 @@ def draw_errors(folder, estimates, truth):
         velocity.append((name, t, rms, name))
     draw_two_panels(folder, "errors.png",
                     ("Position error against ground truth, at each written sample",
-                     f"Velocity error against ground truth, RMS over each {VELOCITY_WINDOW:g} s"),
-                    ("|position error| [m]", "RMS |velocity error| [m/s]"), (position, velocity))
+                     f"Velocity error against {velocity_truth}, "
+                     f"RMS over each {VELOCITY_WINDOW:g} s"),
+                    ("|position error| [m]", "RMS |velocity error| [m/s]"), (position, velocity),
+                    note)
+
+
+def draw_attitude(folder, estimates, truth, note):
+    """attitude.png: roll/pitch (tilt) and yaw errors at each written sample, as the run's table."""
+    tilt, yaw = [], []
+    for name, e in estimates.items():
+        r = nearest_rows(truth["t"], e["t"])
+        q_hat = np.stack([e["q" + a] for a in "wxyz"], axis=1)
+        q = np.stack([truth["gt_q" + a][r] for a in "wxyz"], axis=1)
+        e_tilt, e_yaw = attitude_errors(q_hat, q)
+        tilt.append((name, e["t"], e_tilt, name))
+        yaw.append((name, e["t"], e_yaw, name))
+    draw_two_panels(folder, "attitude.png",
+                    ("Roll/pitch error against ground truth: the angle between the up axes",
+                     "Yaw error against ground truth, wrapped to [-180, 180)"),
+                    ("roll/pitch error [deg]", "yaw error [deg]"), (tilt, yaw), note, log=False)
 
 
 def draw_sigma(folder, filters):
@@ -210,7 +307,7 @@ def draw_sigma(folder, filters):
                     ("horizontal sigma_p [m]", "horizontal sigma_v [m/s]"), panels)
 
 
-def draw_bounds(folder, filters, truth):
+def draw_bounds(folder, filters, truth, velocity_truth, note):
     """bounds.png: per filter, each axis's error (solid) inside its +-3 sigma (dashed)."""
     fig, axes = plt.subplots(len(filters), 2, figsize=(11, 2.6 * len(filters)), squeeze=False,
                              sharex=True)
@@ -231,10 +328,13 @@ def draw_bounds(folder, filters, truth):
             ax.grid(True, alpha=0.3)
             if row == 0:
                 ax.set_title(("Position" if quantity == "p" else "Velocity") +
-                             " error (solid) and +-3 sigma (dashed)")
+                             " error (solid) and +-3 sigma (dashed)" +
+                             (f"\nagainst {velocity_truth}" if quantity == "v" else ""))
     legend_outside(axes[0][1], fontsize=8)
     for ax in axes[-1]:
         ax.set_xlabel("t [s]")
+    if note:
+        fig.suptitle(note, fontsize=9)
     fig.tight_layout()
     save(fig, folder, "bounds.png")
 
@@ -266,17 +366,17 @@ def main(folder, log_path):
             estimates[name] = e
             bounds[name] = nees_bounds(path)
     filters = {name: e for name, e in estimates.items() if "sigma_px" in e}
-    truth = None
-    if "gt_px" in header(log_path):
-        truth = read_csv(log_path, ["t"] + ["gt_" + q + a for q in "pv" for a in "xyz"])
+    truth = read_truth(log_path)
     draw_trajectory(folder, estimates, truth)
     if truth is None:
         if filters:
             draw_sigma(folder, filters)
         return
-    draw_errors(folder, estimates, truth)
+    velocity_truth, note = truth_notes(truth, "gt_vx" not in header(log_path))
+    draw_errors(folder, estimates, truth, velocity_truth, note)
+    draw_attitude(folder, estimates, truth, note)
     if filters:
-        draw_bounds(folder, filters, truth)
+        draw_bounds(folder, filters, truth, velocity_truth, note)
         with_nees = {n: e for n, e in filters.items() if "nees" in e and bounds[n] is not None}
         if with_nees:
             draw_nees(folder, with_nees, bounds)
