@@ -47,7 +47,7 @@ struct PriorSettings {
 struct FootSettings {
   double stance_density = 1e-3;  // [m/sqrt(s)] a stance foot's slip allowance
   double swing_density = 2.0;    // [m/sqrt(s)] a swing foot (the soft-contact end of p_c = 0)
-  bool correct_yaw = true;       // stance feet may correct the heading (ESKF, InEKF, TSIF)
+  bool correct_yaw = false;      // stance feet may correct the heading (ESKF, InEKF, TSIF)
 };
 
 // What only the linear KF (section 57.4) has.

@@ -57,6 +57,50 @@ double ateRmse(const io::Log& truth, const Trajectory& estimate,
   return std::sqrt(s / static_cast<double>(valid.size()));
 }
 
+// The true positions of the valid rows and the estimated ones, a column per row.
+struct Positions {
+  Eigen::Matrix3Xd p;
+  Eigen::Matrix3Xd p_hat;
+};
+
+Positions validPositions(const io::Log& truth, const Trajectory& estimate,
+                         const std::vector<std::size_t>& valid) {
+  Positions s{Eigen::Matrix3Xd(3, valid.size()), Eigen::Matrix3Xd(3, valid.size())};
+  for (std::size_t i = 0; i < valid.size(); ++i) {
+    s.p.col(static_cast<Eigen::Index>(i)) = truth.rows[valid[i]].gt_p;
+    s.p_hat.col(static_cast<Eigen::Index>(i)) = estimate[valid[i]].p;
+  }
+  return s;
+}
+
+// The least-squares alignments need this many valid rows (fewer: not computed).
+constexpr std::size_t kMinAlignedRows = 3;
+
+// sqrt(mean_k |p_k - (R p_hat_k + t)|^2).
+double alignedRmse(const Positions& s, const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
+  return std::sqrt((s.p - ((R * s.p_hat).colwise() + t)).colwise().squaredNorm().mean());
+}
+
+// ATE after the rigid transform fitting p_hat to p in least squares (Umeyama 1991, no scale).
+double ateSe3Rmse(const Positions& s) {
+  const Eigen::Matrix4d T = Eigen::umeyama(s.p_hat, s.p, false);
+  return alignedRmse(s, T.topLeftCorner<3, 3>(), T.topRightCorner<3, 1>());
+}
+
+// ATE after the yaw and translation fitting p_hat to p in least squares: on centred coordinates
+// psi = atan2(sum x_hat y - y_hat x, sum x_hat x + y_hat y), t = c - R_z(psi) c_hat.
+double ate4DofRmse(const Positions& s) {
+  const Eigen::Vector3d c = s.p.rowwise().mean();
+  const Eigen::Vector3d c_hat = s.p_hat.rowwise().mean();
+  const Eigen::Matrix3Xd q = s.p.colwise() - c;
+  const Eigen::Matrix3Xd q_hat = s.p_hat.colwise() - c_hat;
+  const double psi =
+      std::atan2((q_hat.row(0).cwiseProduct(q.row(1)) - q_hat.row(1).cwiseProduct(q.row(0))).sum(),
+                 (q_hat.row(0).cwiseProduct(q.row(0)) + q_hat.row(1).cwiseProduct(q.row(1))).sum());
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return alignedRmse(s, R, c - R * c_hat);
+}
+
 // RPE over pairs of valid rows; travelled[k] is the truth's distance to valid row k.
 RelativeError rpe(const io::Log& truth, const Trajectory& estimate,
                   const std::vector<std::size_t>& valid, const std::vector<double>& travelled,
@@ -165,7 +209,7 @@ Metrics compare(const io::Log& truth, const Trajectory& estimate,
   m.velocity_method = velocity.method;
   if (valid.empty()) {  // nothing to score: every metric "not computed"
     m.position_rmse = m.velocity_rmse = m.final_position_error = m.drift_percent = kNotComputed;
-    m.tilt_rmse_deg = m.yaw_rmse_deg = m.ate_rmse = kNotComputed;
+    m.tilt_rmse_deg = m.yaw_rmse_deg = m.ate_rmse = m.ate_se3_rmse = m.ate_4dof_rmse = kNotComputed;
     for (const double d : rpe_distances) m.rpe.push_back(RelativeError{d});
     return m;
   }
@@ -200,6 +244,10 @@ Metrics compare(const io::Log& truth, const Trajectory& estimate,
   m.final_position_error = (estimate[valid.back()].p - truth.rows[valid.back()].gt_p).norm();
   m.drift_percent = m.distance > 0.0 ? 100.0 * m.final_position_error / m.distance : kNotComputed;
   m.ate_rmse = ateRmse(truth, estimate, valid);
+  const Positions positions = validPositions(truth, estimate, valid);
+  const bool aligned = valid.size() >= kMinAlignedRows;
+  m.ate_se3_rmse = aligned ? ateSe3Rmse(positions) : kNotComputed;
+  m.ate_4dof_rmse = aligned ? ate4DofRmse(positions) : kNotComputed;
   for (const double d : rpe_distances) m.rpe.push_back(rpe(truth, estimate, valid, travelled, d));
   return m;
 }

@@ -10,17 +10,29 @@
 // of the distance travelled by the truth (below: not inflated by jitter).
 // Trajectory benchmarks as the odometry literature reports them (Sturm et al. 2012, Zhang and
 // Scaramuzza 2018), with poses T = (R, p):
-//   ATE  absolute trajectory error: the estimate is first moved by the rigid transform that puts
-//        its first pose on the true first pose, T_a = T_0 T_hat_0^-1; then the RMSE of
-//        |p_k - p_a,k| over the rows.
+//   ATE  absolute trajectory error: the RMSE over the rows of |p_k - (R_a p_hat_k + t_a)|, the
+//        estimate moved by a transform (R_a, t_a) found one of three ways:
+//        first pose  T_a = T_0 T_hat_0^-1 puts the first estimated pose on the true one
+//                    (ate_rmse);
+//        SE(3)       the rigid transform that minimises sum_k |p_k - (R p_hat_k + t)|^2 (Umeyama
+//                    1991 without scale, as evo_ape -a): with c and c_hat the centroids and
+//                    U D V^T the SVD of sum_k (p_k - c)(p_hat_k - c_hat)^T, R = U S V^T with
+//                    S = diag(1, 1, det(U V^T)), t = c - R c_hat (ate_se3_rmse);
+//        4-DoF       the same fit with R a rotation about world z: yaw and position are what an
+//                    IMU-based estimator cannot observe (the VIO convention, "posyaw" in Zhang
+//                    and Scaramuzza 2018): on coordinates centred on c and c_hat,
+//                    psi = atan2(sum_k x_hat y - y_hat x, sum_k x_hat x + y_hat y),
+//                    R = R_z(psi), t = c - R c_hat (ate_4dof_rmse).
+//        The two least-squares fits use every valid row and need 3 of them.
 //   RPE  relative pose error over a distance d: for every row i, j is the first row at which the
 //        truth has travelled d further; E = (T_i^-1 T_j)^-1 (T_hat_i^-1 T_hat_j) compares the
 //        two relative motions; the RMSE of its translation |t_E| (also as % of d) and of its
 //        rotation angle.
 // A real robot's truth (motion capture) differs from a simulated one in three ways, each handled:
 //  - rows flagged gt_valid = 0 (a dropout) are masked out of every metric: RMSEs, ATE (aligned on
-//    the first valid row), RPE (both rows of a pair valid), drift (the last valid row); their
-//    number is reported. With no valid row at all every metric is NaN.
+//    the first valid row, or fitted to the valid rows), RPE (both rows of a pair valid), drift
+//    (the last valid row); their number is reported. With no valid row at all every metric is
+//    NaN.
 //  - a truth with the pose only (gt_velocity = false): the velocity is the pose differentiated,
 //    v_k = (p_b - p_a) / (t_b - t_a) with a, b the valid rows farthest from k within a window of
 //    w seconds centred on k (a central difference; one-sided near the ends and at dropouts), and
@@ -30,8 +42,8 @@
 //    truth jittering by millimetres travels 0 m, not metres; a path is undercounted by less than
 //    d_min. RPE's distances are measured the same way.
 // Whatever cannot be computed is "not computed", never 0: an RPE without a single pair
-// (computed = false, its errors NaN), the drift of a truth that never moved d_min (NaN);
-// summary.json writes a NaN as null.
+// (computed = false, its errors NaN), the drift of a truth that never moved d_min (NaN), a
+// fitted ATE on fewer than 3 valid rows (NaN); summary.json writes a NaN as null.
 #pragma once
 
 #include <limits>
@@ -68,7 +80,9 @@ struct Metrics {
   double drift_percent = 0.0;         // final position error / distance * 100 (NaN: distance 0)
   double tilt_rmse_deg = 0.0;         // roll/pitch [deg]
   double yaw_rmse_deg = 0.0;          // [deg]
-  double ate_rmse = 0.0;              // [m]
+  double ate_rmse = 0.0;              // aligned on the first pose [m]
+  double ate_se3_rmse = 0.0;          // after the least-squares SE(3) alignment [m]
+  double ate_4dof_rmse = 0.0;         // after the least-squares yaw and position alignment [m]
   std::vector<RelativeError> rpe;     // one per requested distance
   int scored_rows = 0;                // rows with a valid truth
   int masked_rows = 0;                // rows with gt_valid = 0, left out of every metric

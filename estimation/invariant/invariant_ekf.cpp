@@ -108,6 +108,7 @@ InvariantEkfParams InvariantEkfParams::hartleyExample() {
   p.sigma_gyro_bias = p.sigma_accel_bias = 1.0;
   p.discretisation = Discretisation::kFirstOrder;
   p.gravity = Vector3(0.0, 0.0, -9.81);
+  p.feet_correct_yaw = true;  // the reference's filter: its feet correct the heading
   return p;
 }
 

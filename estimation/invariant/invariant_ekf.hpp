@@ -51,24 +51,11 @@
 // (3 x 3 innovations, each corrected for the earlier feet's delta), which equals the reference's
 // single stacked update, and the group is moved once, X_hat <- Exp(delta_xi) X_hat.
 //
-// Heading rule (feet_correct_yaw = false; off by default). Turning the whole state about gravity
-// changes no IMU reading and no leg measurement: absolute yaw is unobservable. The gyro bias
-// about the vertical is observable from the feet only through accelerations, and then only as
-// well as the legs' scale is known: legs that read a speed short by a fraction e, turning at
-// rate omega, ask for a yaw rate off by e omega (0.4 rad/s and 5 %: 1.2 deg/s, the real Go1's
-// "about 1 deg per second while turning"). No real robot's legs are known to a few percent; with
-// the rule no foot corrects the heading: the gain loses the part that turns the robot about the
-// vertical through its base (the attitude, the velocity and the feet about the base turned
-// together, the position kept) and the part along the gyro bias about the vertical, R_hat^T e_z,
-//   K <- (I - E) K,   P <- P - K S K^T + (E K) S (E K)^T   (the Joseph form, exact for any gain),
-// and the heading drifts as the gyro integrates it. Measured (legkit run --scenario ..., chapter
-// 57.5): physics-real yaw 1.44 deg (the gyro alone 1.46; with heading corrections 5.7-6.0),
-// position 0.09 m (0.13); the ideal physics trot, where the exact leg scale lets the feet learn
-// the bias, pays for it: yaw 1.59 against 0.65-0.90, position 0.21-0.25 m against 0.20-0.23 m.
-// Not the default yet: over long runs the position covariance does not grow with the heading's
-// (a 300 s analytic trot: ESKF ANEES 5.4, 11 m of error across the path against sigma 0.96 m,
-// while sigma_yaw, 0.55 rad, covers the yaw error); until that is understood the plain filter
-// (feet_correct_yaw = true) stays the default.
+// Heading rule (feet_correct_yaw = false, the default; why, what it measured and what it costs:
+// eskf.hpp's "Heading rule" paragraph). The same rule in the right-invariant error: the gain
+// loses the heading row (the world z of the rotation error) times the turn of the robot about its
+// base, which here is e_z on the rotation, 0 on the velocity and -(e_z x p) on the position and
+// every foot, and the part along the gyro bias about the vertical; the Joseph form gives P.
 //
 // Gating (section 57.9, GatingParams, off by default): each held foot's innovation nu is tested
 // with d^2 = nu^T S^-1 nu = |C^-1 nu|^2 (S = C C^T, its sequential innovation covariance) against
@@ -182,8 +169,8 @@ struct InvariantEkfParams {
   // p_c < 1 (file comment); the ESKF's and the TSIF's swing density.
   double foot_swing_density = 2.0;
   // Whether stance feet may correct the heading (yaw and the gyro bias about the vertical):
-  // true, the plain filter (the default); false, the heading rule (file comment).
-  bool feet_correct_yaw = true;
+  // false, the heading rule (the default, file comment); true, the plain filter.
+  bool feet_correct_yaw = false;
   // Prior at reset, standard deviations in the kit's convention (mapped into xi at reset).
   double sigma_attitude = 0.01;    // [rad] per axis, world frame
   double sigma_velocity = 0.05;    // [m/s]

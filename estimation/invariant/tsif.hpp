@@ -71,8 +71,7 @@
 // touchdowns a second it added up, and over 300 s made the filter over-confident in position
 // (ANEES/dof 3.5 on 2 runs; chapter 57.10).
 //
-// Heading rule (feet_correct_yaw = false, off by default; why, and why not yet the default:
-// eskf.hpp's "Heading rule" paragraph).
+// Heading rule (feet_correct_yaw = false, the default; why: eskf.hpp's "Heading rule" paragraph).
 // The Gauss-Newton step of x_{k+1} loses its heading part, dx1 <- (I - E) dx1 with E = V B^T
 // (B picks the heading about the vertical and the gyro bias along it, V turns the robot about its
 // base), and the new information is that of the ESKF's Joseph covariance P_opt + V C V^T, where
@@ -161,8 +160,8 @@ struct TsifParams {
   double foot_init_sigma = 1.0;                  // prior of the (unknown) feet at reset [m]
   int iterations = 1;                            // Gauss-Newton iterations per step (1 or 2)
   // Whether stance feet may correct the heading (yaw and the gyro bias about the vertical):
-  // true, the plain filter (the default); false, the heading rule (file comment).
-  bool feet_correct_yaw = true;
+  // false, the heading rule (the default, file comment); true, the plain filter.
+  bool feet_correct_yaw = false;
   // Prior of the state at reset (standard deviations; attitude per axis, local frame).
   double sigma_attitude = 0.01;    // [rad]
   double sigma_velocity = 0.05;    // [m/s]

@@ -1,4 +1,4 @@
-// The heading rule of the ESKF, the InEKF and the TSIF (feet_correct_yaw = false, off by default;
+// The heading rule of the ESKF, the InEKF and the TSIF (feet_correct_yaw = false, the default;
 // the file comments of estimation/invariant/eskf.hpp, invariant_ekf.hpp and tsif.hpp): a
 // stance-foot update moves neither the heading nor the gyro bias about the vertical, and moves
 // everything else as the plain filter would. Each filter is stepped twice from the same state over

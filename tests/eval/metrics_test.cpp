@@ -1,6 +1,7 @@
 // eval::compare on constructed errors whose metrics are known in closed form.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <random>
 
 #include "eval/metrics.hpp"
 
@@ -27,6 +28,34 @@ Trajectory copyOf(const legkit::io::Log& log) {
   Trajectory est;
   for (const auto& r : log.rows) est.push_back({r.t, r.gt_q, r.gt_v, r.gt_p});
   return est;
+}
+
+// A truth winding through 3D, on no line or plane, so that every rotation of it shows: 60 rows of
+// 0.1 s.
+legkit::io::Log curve() {
+  legkit::io::Log log;
+  log.layout.ground_truth = true;
+  for (int k = 0; k < 60; ++k) {
+    legkit::io::LogRow r;
+    r.t = 0.1 * k;
+    r.gt_p = Eigen::Vector3d(2.0 * std::cos(0.2 * k), std::sin(0.3 * k), 0.3 + 0.05 * k);
+    r.gt_q = Eigen::AngleAxisd(0.2 * k, Eigen::Vector3d::UnitZ());
+    log.rows.push_back(r);
+  }
+  return log;
+}
+
+// The truth moved rigidly, p_hat = R p + t and R_hat = R R_true: every alignment that may rotate
+// as R does undoes it.
+Trajectory moved(const legkit::io::Log& log, const Eigen::Quaterniond& R,
+                 const Eigen::Vector3d& t) {
+  Trajectory est;
+  for (const auto& r : log.rows) est.push_back({r.t, R * r.gt_q, R * r.gt_v, R * r.gt_p + t});
+  return est;
+}
+
+Eigen::Quaterniond yawed(double psi) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitZ()));
 }
 
 }  // namespace
@@ -111,4 +140,76 @@ TEST_CASE("RPE of an estimate that moves 10 % too far is 10 % of the distance", 
   CHECK(m.rpe[0].translation_percent == Approx(10.0).epsilon(1e-9));
   CHECK(m.rpe[1].pairs == 0);  // the run is shorter than 5 m
   CHECK(m.ate_rmse > 0.0);
+}
+
+TEST_CASE("SE(3) ATE aligns away any rigid motion, 4-DoF ATE one about z only", "[eval]") {
+  const auto log = curve();
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal;
+  Eigen::Vector4d w;
+  for (int i = 0; i < 4; ++i) w(i) = normal(rng);
+  const Eigen::Quaterniond random(w(0), w(1), w(2), w(3));
+  const Eigen::Vector3d t(normal(rng), normal(rng), normal(rng));
+  const auto any = legkit::eval::compare(log, moved(log, random.normalized(), t));
+  CHECK(any.position_rmse > 0.1);
+  CHECK(any.ate_se3_rmse == Approx(0.0).margin(1e-12));
+
+  const auto about_z = legkit::eval::compare(log, moved(log, yawed(2.0), t));
+  CHECK(about_z.ate_se3_rmse == Approx(0.0).margin(1e-12));
+  CHECK(about_z.ate_4dof_rmse == Approx(0.0).margin(1e-12));
+
+  // A roll of 0.1 rad: gravity's direction is observable, so the 4-DoF alignment keeps it.
+  const Eigen::Quaterniond rolled = yawed(2.0) * Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX());
+  const auto roll = legkit::eval::compare(log, moved(log, rolled, t));
+  CHECK(roll.ate_se3_rmse == Approx(0.0).margin(1e-12));
+  CHECK(roll.ate_4dof_rmse > 0.01);
+}
+
+TEST_CASE("4-DoF ATE: the yaw turns the estimate onto the truth, not away from it", "[eval]") {
+  // With psi's sign flipped the fit would turn by twice the error: ATE ~ 2 sin(psi) * radius.
+  const auto log = curve();
+  for (const double psi : {0.3, -0.3, 1.5, -2.5}) {
+    INFO("psi " << psi);
+    const auto m = legkit::eval::compare(log, moved(log, yawed(psi), Eigen::Vector3d::Zero()));
+    CHECK(m.position_rmse > 0.2);
+    CHECK(m.ate_4dof_rmse == Approx(0.0).margin(1e-12));
+  }
+}
+
+TEST_CASE("With noise, the least-squares ATEs are at most the first-pose ATE", "[eval]") {
+  // A yawed, shifted estimate with noisy positions: the first-pose transform (here a yaw and a
+  // shift) is one of the 4-DoF candidates, which are SE(3) candidates.
+  const auto log = curve();
+  Trajectory est = moved(log, yawed(0.4), Eigen::Vector3d(1.0, -2.0, 0.5));
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  for (auto& e : est) e.p += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+  const auto m = legkit::eval::compare(log, est);
+  CHECK(m.ate_se3_rmse > 0.0);
+  CHECK(m.ate_se3_rmse <= m.ate_4dof_rmse);
+  CHECK(m.ate_4dof_rmse <= m.ate_rmse);
+}
+
+TEST_CASE("The aligned ATEs ignore masked rows and need 3 valid rows", "[eval]") {
+  auto log = curve();
+  log.layout.gt_valid = true;
+  log.rows[10].gt_valid = false;
+  const Trajectory est = moved(log, yawed(1.0), Eigen::Vector3d(0.5, 0.5, 0.0));
+  const auto clean = legkit::eval::compare(log, est);
+  CHECK(clean.ate_4dof_rmse == Approx(0.0).margin(1e-12));
+  // Garbage in the masked row, truth and estimate alike: the same numbers.
+  auto garbage_log = log;
+  garbage_log.rows[10].gt_p = Eigen::Vector3d(1e3, -1e3, 1e3);
+  Trajectory garbage = est;
+  garbage[10].p = Eigen::Vector3d(-5e2, 7e2, 0.0);
+  const auto masked = legkit::eval::compare(garbage_log, garbage);
+  CHECK(masked.ate_se3_rmse == clean.ate_se3_rmse);
+  CHECK(masked.ate_4dof_rmse == clean.ate_4dof_rmse);
+
+  for (std::size_t k = 2; k < log.rows.size(); ++k) log.rows[k].gt_valid = false;
+  const auto two = legkit::eval::compare(log, est);
+  CHECK(two.scored_rows == 2);
+  CHECK(std::isnan(two.ate_se3_rmse));
+  CHECK(std::isnan(two.ate_4dof_rmse));
+  CHECK_FALSE(std::isnan(two.ate_rmse));  // the first-pose ATE needs one row
 }

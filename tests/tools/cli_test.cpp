@@ -1,5 +1,6 @@
 // The legkit command line as a user meets it: exit codes, --version, outputs written atomically
-// with summary.json last, no shell between it and the plot scripts, plots for recorded logs.
+// with summary.json last, no shell between it and the plot scripts, plots for recorded logs, the
+// TUM files of --tum.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -10,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "io/log_reader.hpp"
 #include "io/log_writer.hpp"
@@ -488,4 +490,57 @@ TEST_CASE("cli: run --contact probabilistic trains the logistic model first, the
   const std::string summary = slurp(dir.path / "out" / "summary.json");
   CHECK_THAT(summary, Catch::Matchers::Contains("\"source\": \"probabilistic\""));
   CHECK_THAT(summary, !Catch::Matchers::Contains("\"training_s\": null"));
+}
+
+namespace {
+
+// The lines of a TUM trajectory file, each as its numbers.
+std::vector<std::vector<double>> tumLines(const fs::path& path) {
+  std::ifstream f(path);
+  std::vector<std::vector<double>> lines;
+  for (std::string line; std::getline(f, line);) {
+    std::istringstream words(line);
+    lines.emplace_back();
+    for (double x = 0.0; words >> x;) lines.back().push_back(x);
+  }
+  return lines;
+}
+
+}  // namespace
+
+TEST_CASE("cli: run --tum writes the estimates and the truth for evo; the table's aligned ATE",
+          "[cli]") {
+  const Folder dir("cli_tum");
+  const fs::path out = dir.path / "out";
+  fs::create_directories(out);
+  std::ofstream(out / "estimate_old-filter.tum") << "stale\n";
+  Result r = runLegkit(dir.path, {"run", "--scenario", "trot", "--duration", "3", "--no-plots",
+                                  "--tum", "--out", "out"});
+  INFO(r.output);
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.output, Catch::Matchers::Contains(" ATE se3 [m] ") &&
+                           Catch::Matchers::Contains(" RPE 1m [%] ") &&
+                           Catch::Matchers::Contains("ATE se3: after the least-squares SE(3)"));
+  CHECK_THAT(slurp(out / "summary.json"), Catch::Matchers::Contains("\"ate_se3_rmse_m\"") &&
+                                              Catch::Matchers::Contains("\"ate_4dof_rmse_m\""));
+  CHECK_FALSE(fs::exists(out / "estimate_old-filter.tum"));
+  for (const char* name : {"truth", "estimate_eskf", "estimate_imu-dead-reckoning"}) {
+    INFO(name);
+    const std::vector<std::vector<double>> lines = tumLines(out / (std::string(name) + ".tum"));
+    // The rows of the estimate files (100 Hz): t = 0, 0.01, .. 2.99 and 2.999.
+    REQUIRE(static_cast<int>(lines.size()) == dataRows(out / "estimate_eskf.csv"));
+    for (std::size_t k = 0; k < lines.size(); ++k) {
+      REQUIRE(lines[k].size() == 8);  // t tx ty tz qx qy qz qw
+      const Eigen::Vector4d q(lines[k][4], lines[k][5], lines[k][6], lines[k][7]);
+      CHECK(q.norm() == Approx(1.0).margin(1e-8));
+      if (k > 0) CHECK(lines[k][0] > lines[k - 1][0]);
+    }
+  }
+  // A run without --tum leaves no TUM file of the last one.
+  r = runLegkit(dir.path,
+                {"run", "--scenario", "trot", "--duration", "3", "--no-plots", "--out", "out"});
+  REQUIRE(r.status == 0);
+  for (const fs::directory_entry& e : fs::directory_iterator(out)) {
+    CHECK(e.path().extension() != ".tum");
+  }
 }

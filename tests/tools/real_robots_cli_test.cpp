@@ -75,15 +75,16 @@ TEST_CASE("The shipped iCub log: every filter within 3 cm, yaw the gyro's, ANEES
 }
 
 TEST_CASE(
-    "physics-real: heading corrections from the feet lose yaw; the heading rule keeps the gyro's",
+    "physics-real: heading corrections from the feet lose yaw; the heading rule (the default) "
+    "keeps the gyro's",
     "[cli][real-robot][physics]") {
   const test::ScratchFolder dir("physics_real_cli");
-  std::ofstream(dir.path / "rule.yaml") << "feet:\n  correct_yaw: false\n";
+  std::ofstream(dir.path / "plain.yaml") << "feet:\n  correct_yaw: true\n";
   std::string output;
   std::map<std::string, Row> plain, kit;
-  REQUIRE(runLegkit(dir.path, {"--scenario", "physics-real"}, plain, output) == 0);
-  REQUIRE(runLegkit(dir.path, {"--scenario", "physics-real", "--config", "rule.yaml"}, kit,
+  REQUIRE(runLegkit(dir.path, {"--scenario", "physics-real", "--config", "plain.yaml"}, plain,
                     output) == 0);
+  REQUIRE(runLegkit(dir.path, {"--scenario", "physics-real"}, kit, output) == 0);
   const double gyro_yaw = kit.at("imu-dead-reckoning").yaw;
   for (const char* name : {"eskf", "invariant-ekf"}) {
     INFO(name << ": yaw " << plain.at(name).yaw << " deg with heading corrections, "

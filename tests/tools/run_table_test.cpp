@@ -79,6 +79,8 @@ TEST_CASE("run table: metrics not computed print as n/c, the truth's masking and
   m.position_rmse = 0.012;
   m.drift_percent = eval::kNotComputed;       // a truth that never moved
   m.rpe.push_back(eval::RelativeError{1.0});  // no pair over 1 m: not computed
+  m.ate_se3_rmse = 0.004;
+  m.ate_4dof_rmse = eval::kNotComputed;
   m.distance = 0.0;
   m.scored_rows = 900;
   m.masked_rows = 100;
@@ -95,6 +97,10 @@ TEST_CASE("run table: metrics not computed print as n/c, the truth's masking and
   const std::string eskf_line = table.substr(line + 1, table.find('\n', line + 1) - line - 1);
   CHECK_THAT(eskf_line, Catch::Matchers::Contains(" n/c "));
   CHECK_THAT(eskf_line, Catch::Matchers::Contains(" 0.012 "));
+  CHECK_THAT(eskf_line, Catch::Matchers::Contains(" 0.004 "));  // ATE after the SE(3) alignment
+  CHECK_THAT(table, Catch::Matchers::Contains(" ATE se3 [m]  RPE 1m [%] "));
+  CHECK_THAT(table,
+             Catch::Matchers::Contains("\nATE se3: after the least-squares SE(3) alignment"));
   CHECK_THAT(table, !Catch::Matchers::Contains("nan"));
   CHECK_THAT(table,
              Catch::Matchers::Contains(
@@ -104,6 +110,8 @@ TEST_CASE("run table: metrics not computed print as n/c, the truth's masking and
   const nlohmann::json j = tools::toJson({still}).at(0);
   CHECK(j.at("drift_percent").dump() == "null");  // NaN is written as null
   CHECK(j.at("rpe").at(0).at("computed") == false);
+  CHECK(j.at("ate_se3_rmse_m") == 0.004);
+  CHECK(j.at("ate_4dof_rmse_m").dump() == "null");
   CHECK(j.at("rpe").at(0).at("translation_rmse_m").dump() == "null");
   CHECK(j.at("distance_m") == 0.0);
   CHECK(j.at("scored_rows") == 900);

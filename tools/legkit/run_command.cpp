@@ -1,6 +1,7 @@
 #include "run_command.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -60,15 +61,38 @@ void writeEstimates(std::ostream& f, const eval::RunResult& run, double rate,
   f << '\n';
   for (const std::size_t k : estimateRows(run.trajectory, rate)) {
     const EstimateSample& e = run.trajectory[k];
-    f << (stamps.empty() ? e.t : stamps[k]) << ',' << e.p.x() << ',' << e.p.y() << ',' << e.p.z() << ',' << e.q.w() << ','
-      << e.q.x() << ',' << e.q.y() << ',' << e.q.z() << ',' << e.v.x() << ',' << e.v.y() << ','
-      << e.v.z();
+    f << (stamps.empty() ? e.t : stamps[k]) << ',' << e.p.x() << ',' << e.p.y() << ',' << e.p.z()
+      << ',' << e.q.w() << ',' << e.q.x() << ',' << e.q.y() << ',' << e.q.z() << ',' << e.v.x()
+      << ',' << e.v.y() << ',' << e.v.z();
     if (filter) {
       for (int i = 0; i < 9; ++i) f << ',' << run.sigma[k](i);
     }
     if (nees) f << ',' << run.nees[k];
     f << '\n';
   }
+}
+
+// TUM trajectory format (Sturm et al. 2012), as evo reads it: "t tx ty tz qx qy qz qw" for each
+// of `rows`, at the stamps of the estimate files (writeEstimates).
+void writeTum(std::ostream& f, const std::vector<EstimateSample>& samples,
+              const std::vector<std::size_t>& rows, const std::vector<double>& stamps) {
+  f << std::fixed << std::setprecision(9);
+  for (const std::size_t k : rows) {
+    const EstimateSample& s = samples[k];
+    f << (stamps.empty() ? s.t : stamps[k]) << ' ' << s.p.x() << ' ' << s.p.y() << ' ' << s.p.z()
+      << ' ' << s.q.x() << ' ' << s.q.y() << ' ' << s.q.z() << ' ' << s.q.w() << '\n';
+  }
+}
+
+// The log's truth in TUM format: the rows an estimate file keeps, less the masked ones.
+void writeTumTruth(std::ostream& f, const io::Log& log, double rate,
+                   const std::vector<double>& stamps) {
+  std::vector<EstimateSample> truth;
+  for (const io::LogRow& row : log.rows) truth.push_back({row.t, row.gt_q, row.gt_v, row.gt_p});
+  std::vector<std::size_t> rows = estimateRows(truth, rate);
+  const auto masked = [&](std::size_t k) { return log.layout.gt_valid && !log.rows[k].gt_valid; };
+  rows.erase(std::remove_if(rows.begin(), rows.end(), masked), rows.end());
+  writeTum(f, truth, rows, stamps);
 }
 
 // "all" or a rate >= 0 [Hz] ("0" also means every sample).
@@ -102,6 +126,17 @@ std::string cell(double value, int precision) {
   return os.str();
 }
 
+// The distances RPE is computed over [m]: summary.json has each, the table the first.
+constexpr std::array<double, 2> kRpeDistances = {1.0, 5.0};
+
+// The table's RPE: the translation error over kRpeDistances[0] in % of it (n/c if not computed).
+std::string rpeCell(const eval::Metrics& m) {
+  const auto e = std::find_if(m.rpe.begin(), m.rpe.end(), [](const eval::RelativeError& r) {
+    return r.distance == kRpeDistances.front();
+  });
+  return cell(e == m.rpe.end() ? eval::kNotComputed : e->translation_percent, 1);
+}
+
 // The time base of a recorded log: a median period outside [10 us, 100 ms] means the
 // timestamps are not in seconds; a step longer than max_gap (default: 10 median periods) is a
 // hole in the log that no estimator should bridge. Throws InputError naming the file and line.
@@ -130,7 +165,7 @@ void checkTimeBase(const io::Log& log, std::optional<double> max_gap) {
 }
 
 // A previous run's outputs: summary.json first (the folder is incomplete from here on), then its
-// estimates and plots, so that none of them can pass for this run's.
+// estimates (CSV and TUM), truth.tum and plots, so that none of them can pass for this run's.
 void removeStaleOutputs(const fs::path& dir) {
   const auto remove = [](const fs::path& p) {
     std::error_code error;
@@ -142,7 +177,8 @@ void removeStaleOutputs(const fs::path& dir) {
   for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
     const std::string name = e.path().filename().string();
     const std::string ext = e.path().extension().string();
-    if ((name.rfind("estimate_", 0) == 0 && ext == ".csv") || ext == ".png") {
+    if ((name.rfind("estimate_", 0) == 0 && (ext == ".csv" || ext == ".tum")) ||
+        name == "truth.tum" || ext == ".png") {
       stale.push_back(e.path());
     }
   }
@@ -224,6 +260,8 @@ nlohmann::json toJson(const std::vector<RunRow>& rows) {
       j["roll_pitch_rmse_deg"] = r.metrics->tilt_rmse_deg;
       j["yaw_rmse_deg"] = r.metrics->yaw_rmse_deg;
       j["ate_rmse_m"] = r.metrics->ate_rmse;
+      j["ate_se3_rmse_m"] = r.metrics->ate_se3_rmse;
+      j["ate_4dof_rmse_m"] = r.metrics->ate_4dof_rmse;
       j["distance_m"] = r.metrics->distance;
       j["scored_rows"] = r.metrics->scored_rows;
       j["masked_rows"] = r.metrics->masked_rows;
@@ -259,36 +297,39 @@ std::vector<std::size_t> estimateRows(const std::vector<EstimateSample>& traject
 }
 
 void printRunTable(std::ostream& out, const std::vector<RunRow>& rows) {
-  const char* header[] = {"estimator",        "pos RMSE [m]", "vel RMSE [m/s]", "drift [%]",
-                          "roll/pitch [deg]", "yaw [deg]",    "ANEES",          "us/step"};
-  const int width[] = {20, 13, 15, 10, 17, 10, 7, 8};
-  for (int i = 0; i < 8; ++i)
-    out << std::setw(width[i]) << (i == 0 ? std::left : std::right) << header[i] << ' ';
-  out << '\n';
+  const std::string rpe = "RPE " + number(kRpeDistances.front()) + "m";
+  std::vector<std::vector<std::string>> table = {{"estimator", "pos RMSE [m]", "vel RMSE [m/s]",
+                                                  "drift [%]", "roll/pitch [deg]", "yaw [deg]",
+                                                  "ATE se3 [m]", rpe + " [%]", "ANEES", "us/step"}};
   for (const RunRow& r : rows) {
     std::vector<std::string> cells = {r.run.name};
     if (r.run.failed()) {
-      cells.insert(cells.end(), {"FAILED", "-", "-", "-", "-", "-", "-"});
+      cells.insert(cells.end(), {"FAILED", "-", "-", "-", "-", "-", "-", "-", "-"});
     } else if (r.metrics) {
       const eval::Metrics& m = *r.metrics;
-      cells.insert(cells.end(),
-                   {cell(m.position_rmse, 3), cell(m.velocity_rmse, 3), cell(m.drift_percent, 1),
-                    cell(m.tilt_rmse_deg, 2), cell(m.yaw_rmse_deg, 2)});
+      cells.insert(cells.end(), {cell(m.position_rmse, 3), cell(m.velocity_rmse, 3),
+                                 cell(m.drift_percent, 1), cell(m.tilt_rmse_deg, 2),
+                                 cell(m.yaw_rmse_deg, 2), cell(m.ate_se3_rmse, 3), rpeCell(m)});
     } else {
-      cells.insert(cells.end(), 5, "-");
+      cells.insert(cells.end(), 7, "-");
     }
     if (!r.run.failed()) {
       const double anees = eval::normalisedAnees(r.run);
       cells.push_back(std::isnan(anees) ? "-" : cell(anees, 2));
       cells.push_back(cell(r.run.us_per_step, 2));
     }
-    for (int i = 0; i < 8; ++i)
-      out << std::setw(width[i]) << (i == 0 ? std::left : std::right) << cells[i] << ' ';
-    out << '\n';
+    table.push_back(cells);
   }
+  printTable(out, table);
   // The truth behind the metrics depends only on the log: the first scored estimator says it.
   const auto scored =
       std::find_if(rows.begin(), rows.end(), [](const RunRow& r) { return r.metrics.has_value(); });
+  if (scored != rows.end()) {
+    out << "ATE se3: after the least-squares SE(3) alignment on the truth, as evo_ape -a "
+           "(4-DoF and first-pose ATEs in summary.json)\n"
+        << rpe << ": translation error over each " << number(kRpeDistances.front())
+        << " m travelled by the truth, in % of it\n";
+  }
   if (scored != rows.end() &&
       (scored->metrics->masked_rows > 0 || scored->metrics->velocity_differentiated)) {
     out << "truth: " << scored->metrics->masked_rows
@@ -388,6 +429,9 @@ RunCommand::RunCommand(CLI::App& app)
                "run and their noise, priors and limits, the front-end noise, the contact pipeline "
                "and the detector's thresholds. Options given on this command line override it");
   c.add_flag("--json", json_, "Print the summary as JSON (one object per estimator)");
+  c.add_flag("--tum", tum_,
+             "Also write each estimate_<name>.tum and the log's truth.tum in TUM format (t tx ty "
+             "tz qx qy qz qw, the rows and stamps of the estimate files), for evo and the like");
   c.add_flag("!--no-plots", plots_, "Do not draw the PNG plots");
 }
 
@@ -527,6 +571,10 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   removeStaleOutputs(dir);
   const fs::path log_path = log_.empty() ? dir / "log.csv" : fs::path(log_);
   if (log_.empty()) writeAtomically(log_path, [&](std::ostream& f) { io::writeLog(f, log); });
+  if (tum_ && log.layout.ground_truth) {
+    writeAtomically(dir / "truth.tum",
+                    [&](std::ostream& f) { writeTumTruth(f, log, estimate_rate_, logged_stamps); });
+  }
 
   const EstimateSample x0 = eval::initialState(log);
   std::vector<RunRow> rows;
@@ -536,11 +584,20 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   for (const std::string& name : names) {
     const std::unique_ptr<Estimator> e = makeEstimator(name, estimator_settings);
     RunRow r{eval::runOnLog(*e, log, pipeline, x0), std::nullopt, std::nullopt};
-    if (log.layout.ground_truth && !r.run.failed())
-      r.metrics = eval::compare(log, r.run.trajectory);
+    if (log.layout.ground_truth && !r.run.failed()) {
+      r.metrics =
+          eval::compare(log, r.run.trajectory, {kRpeDistances.begin(), kRpeDistances.end()});
+    }
     r.contact_scores = contactScores(log, r.run);
-    writeAtomically(dir / ("estimate_" + r.run.name + ".csv"),
-                    [&](std::ostream& f) { writeEstimates(f, r.run, estimate_rate_, logged_stamps); });
+    writeAtomically(dir / ("estimate_" + r.run.name + ".csv"), [&](std::ostream& f) {
+      writeEstimates(f, r.run, estimate_rate_, logged_stamps);
+    });
+    if (tum_) {
+      writeAtomically(dir / ("estimate_" + r.run.name + ".tum"), [&](std::ostream& f) {
+        writeTum(f, r.run.trajectory, estimateRows(r.run.trajectory, estimate_rate_),
+                 logged_stamps);
+      });
+    }
     rows.push_back(std::move(r));
   }
   bool all_ok = true;
@@ -563,7 +620,8 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
         {"settle_time_s", pipeline_options.settle_time},
         {"training_s", training_s ? nlohmann::json(*training_s) : nlohmann::json(nullptr)},
         {"no_contact_bound_s", pipeline_options.no_contact_bound}}},
-      {"frontend", conditioning ? nlohmann::json(conditioning->describe()) : nlohmann::json(nullptr)},
+      {"frontend",
+       conditioning ? nlohmann::json(conditioning->describe()) : nlohmann::json(nullptr)},
       {"samples", log.rows.size()},
       {"estimate_rate_hz",
        estimate_rate_ > 0.0 ? nlohmann::json(estimate_rate_) : nlohmann::json("all")},
@@ -598,7 +656,8 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
     if (!log.layout.ground_truth) out << "\n(the log has no ground truth: errors not computed)\n";
     out << "\nwrote " << dir.string() << "/ (" << (log_.empty() ? "log, " : "") << "estimates "
         << (estimate_rate_ > 0.0 ? "at " + number(estimate_rate_) + " Hz" : "at every sample")
-        << (plots_ && plot_failure.empty() ? ", plots" : "") << ", summary.json)\n";
+        << (tum_ ? ", TUM files" : "") << (plots_ && plot_failure.empty() ? ", plots" : "")
+        << ", summary.json)\n";
   }
   if (!plot_failure.empty()) std::cerr << "legkit run: " << plot_failure << '\n';
   if (!fall.empty()) std::cerr << "legkit run: " << scenario_ << ": " << fall << '\n';

@@ -50,14 +50,15 @@ struct RunRow {
 std::vector<std::size_t> estimateRows(const std::vector<EstimateSample>& trajectory, double rate);
 
 // The table of `legkit run`: one line per estimator (FAILED for a run that stopped), then under it
-// each failure with its file:line, time and reason, and each estimator's non-zero health counts.
-// A metric not computed prints as n/c; a truth with masked rows (gt_valid = 0) or a velocity not
-// in the log gets one line saying so.
+// the alignment of its ATE and the distance of its RPE, each failure with its file:line, time and
+// reason, and each estimator's non-zero health counts. A metric not computed prints as n/c; a
+// truth with masked rows (gt_valid = 0) or a velocity not in the log gets one line saying so.
 void printRunTable(std::ostream& out, const std::vector<RunRow>& rows);
 
 // summary.json's "estimators": per estimator its health, ANEES, contact scores and, with a truth,
-// its metrics (NaN, "not computed", as null), the truth's distance, scored and masked rows and
-// where its velocity came from.
+// its metrics (NaN, "not computed", as null; ATE on the first pose and after the SE(3) and 4-DoF
+// alignments, RPE over each distance), the truth's distance, scored and masked rows and where its
+// velocity came from.
 nlohmann::json toJson(const std::vector<RunRow>& rows);
 
 // The contact detector's table, under the estimator table: precision, recall, F1, touchdown and
@@ -93,6 +94,7 @@ class RunCommand {
   double settle_ = kDefaultSettle;  // [s]; the analytic scenarios' default is 0
   std::string config_;  // settings file (estimation/settings.hpp); empty: the defaults above
   bool json_ = false;
+  bool tum_ = false;  // also write the estimates and the truth in TUM format
   bool plots_ = true;
 };
 
