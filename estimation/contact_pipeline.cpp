@@ -63,6 +63,7 @@ std::string ContactPipeline::source() const {
 void ContactPipeline::reset() {
   if (detector_) detector_->reset();
   rolling_.reset();
+  w_admitted_.setZero();
   velocities_.reset();
   guard_.reset();
   health_ = Health{};
@@ -107,7 +108,11 @@ const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const E
     input_ = frontend_.input(row, dt, &velocities_);  // the log's flags, as always read
   }
   if (rolls_) {
-    rolling_.apply(input_, x.q.toRotationMatrix(), row.q, row.dq);
+    const InputLimits& limit = options_.limits;
+    if (row.gyro.allFinite() && row.gyro.cwiseAbs().maxCoeff() <= limit.gyro_max) {
+      w_admitted_ = row.gyro;  // else the last admitted sample stays held (Estimator's contract)
+    }
+    rolling_.apply(input_, x.q.toRotationMatrix(), w_admitted_, row.q, row.dq);
   }
   // Silence of the contact source (a slip reaction dropping feet is not silence): no stance foot
   // since last_stance_t_ for longer than the bound.

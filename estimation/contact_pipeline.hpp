@@ -61,6 +61,9 @@ struct PipelineOptions {
   // The stance point on the ground instead of the foot sphere's centre (RollingFoot); used on
   // logs with joints (the sphere's roll comes from the joint rates).
   bool rolling_foot = true;
+  // The IMU samples the estimators admit (Estimator's contract): the rolling foot integrates the
+  // last admitted gyro sample, as they do.
+  InputLimits limits;
   double no_contact_bound = 0.5;    // [s] longest stretch without a stance foot before kNoContact
   contact::SoftContactParams soft;  // how p_c weights a foot (detectors only)
   // What the filter does with a foot found slipping; with kNone the slip check still reports.
@@ -125,6 +128,7 @@ class ContactPipeline {
   bool rolls_ = false;  // the rolling foot applies (options and front end, above)
   std::unique_ptr<contact::ContactDetector> detector_;
   leg_odometry::RollingFoot rolling_;
+  Eigen::Vector3d w_admitted_ = Eigen::Vector3d::Zero();  // the last gyro sample within limits
   FootVelocityDifferentiator velocities_;  // foot columns without velocity columns
   slip::SlipGuard guard_;
   contact::ContactEstimate contacts_;                    // the source's answer

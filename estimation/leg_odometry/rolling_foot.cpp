@@ -21,8 +21,8 @@ void RollingFoot::reset() {
   }
 }
 
-void RollingFoot::apply(StepInput& in, const Eigen::Matrix3d& R, const io::JointVector& q,
-                        const io::JointVector& dq) {
+void RollingFoot::apply(StepInput& in, const Eigen::Matrix3d& R, const Eigen::Vector3d& w,
+                        const io::JointVector& q, const io::JointVector& dq) {
   for (const ContactMeasurement& c : in.stance()) {
     if (c.foot < 0 || c.foot >= kFeet) {
       throw std::invalid_argument("RollingFoot::apply at t = " + std::to_string(in.t) +
@@ -35,7 +35,6 @@ void RollingFoot::apply(StepInput& in, const Eigen::Matrix3d& R, const io::Joint
                                   " has no v_body (the centre's velocity J dq)");
     }
   }
-  const Eigen::Vector3d& w = in.imu.w_m;                   // base rate, body frame
   const Eigen::Vector3d rn_b = r_ * R.row(2).transpose();  // r n_b = r R^T e_z
   std::array<bool, kFeet> stance{};
   for (int k = 0; k < in.num_contacts; ++k) {

@@ -52,12 +52,13 @@ class RollingFoot {
   void reset();
   // For every stance foot of `in` (quadruped ids 0..3): p_body becomes the ground point the foot
   // sphere touched at touchdown (centre - r n minus the distance rolled since), v_body the velocity
-  // that keeps it stationary (file comment); R is the base attitude (previous estimate), q and dq
-  // the joint angles and rates of the same sample. Throws std::invalid_argument for a foot id
-  // outside 0..3 or a stance foot without v_body (the centre's velocity J dq), before anything
-  // changes.
-  void apply(StepInput& in, const Eigen::Matrix3d& R, const io::JointVector& q,
-             const io::JointVector& dq);
+  // that keeps it stationary (file comment); R is the base attitude (previous estimate), w the
+  // base rate (the last gyro sample the estimators admitted, never a rejected one: a 1e6 rad/s
+  // glitch would roll every foot away), q and dq the joint angles and rates of the same sample.
+  // Throws std::invalid_argument for a foot id outside 0..3 or a stance foot without v_body (the
+  // centre's velocity J dq), before anything changes.
+  void apply(StepInput& in, const Eigen::Matrix3d& R, const Eigen::Vector3d& w,
+             const io::JointVector& q, const io::JointVector& dq);
 
   // The world distance s rolled by foot `foot` since its touchdown (zero when not in stance).
   const Eigen::Vector3d& rolled(int foot) const { return s_[foot]; }

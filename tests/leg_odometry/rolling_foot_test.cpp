@@ -110,7 +110,7 @@ TEST_CASE("rolling foot: the corrected stance point of a rolling sphere stays st
     JointVector Q = JointVector::Zero(), DQ = JointVector::Zero();
     Q.segment<3>(0) = q;
     DQ.segment<3>(0) = dq;
-    rolling.apply(in, R, Q, DQ);
+    rolling.apply(in, R, in.imu.w_m, Q, DQ);
     const ContactMeasurement& m = in.contacts[0];
     worst_point = std::max(worst_point, (p + R * m.p_body - ground0).norm());
     worst_centre = std::max(worst_centre, (c - r * Vector3d::UnitZ() - ground0).norm());
@@ -139,7 +139,7 @@ TEST_CASE("rolling foot: touchdown restarts the rolled distance; swing feet are 
     Q.segment<3>(0) = leg.q(t);
     DQ.segment<3>(0) = leg.dq(t);
     StepInput in = stanceInput(t, dt, kin, leg.q(t), leg.dq(t), leg.w(t));
-    rolling.apply(in, leg.R(t), Q, DQ);
+    rolling.apply(in, leg.R(t), in.imu.w_m, Q, DQ);
     return in;
   };
   for (int k = 0; k < 100; ++k) step(k * 1e-3, k == 0 ? 0.0 : 1e-3);
@@ -148,7 +148,7 @@ TEST_CASE("rolling foot: touchdown restarts the rolled distance; swing feet are 
   StepInput swing;
   swing.t = 0.1;
   swing.dt = 1e-3;
-  rolling.apply(swing, leg.R(0.1), Q, DQ);
+  rolling.apply(swing, leg.R(0.1), swing.imu.w_m, Q, DQ);
   CHECK(swing.num_contacts == 0);
   CHECK(rolling.rolled(0).norm() == 0.0);
   // Touchdown again: the point is the sphere's lowest point now, centre - r R^T e_z.
@@ -167,12 +167,12 @@ TEST_CASE("rolling foot: bad input", "[57.3][leg_odometry][rolling_foot]") {
   StepInput in =
       stanceInput(0.5, 1e-3, kin, Vector3d(0.0, 0.7, -1.5), Vector3d::Zero(), Vector3d::Zero());
   in.contacts[0].foot = 4;
-  CHECK_THROWS_WITH(rolling.apply(in, Matrix3d::Identity(), Q, DQ),
+  CHECK_THROWS_WITH(rolling.apply(in, Matrix3d::Identity(), in.imu.w_m, Q, DQ),
                     Catch::Contains("foot id 4") && Catch::Contains("t = 0.5"));
   in.contacts[0].foot = 1;
   in.contacts[0].v_body.reset();
   const Vector3d before = in.contacts[0].p_body;
-  CHECK_THROWS_WITH(rolling.apply(in, Matrix3d::Identity(), Q, DQ), Catch::Contains("v_body"));
+  CHECK_THROWS_WITH(rolling.apply(in, Matrix3d::Identity(), in.imu.w_m, Q, DQ), Catch::Contains("v_body"));
   CHECK(in.contacts[0].p_body == before);
   g.foot_radius = -0.01;
   CHECK_THROWS_AS(RollingFoot(g), std::invalid_argument);

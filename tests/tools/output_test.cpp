@@ -46,16 +46,67 @@ TEST_CASE("output: writeAtomically keeps the old file when the new one cannot be
   CHECK(slurp(file) == "old\n");
   CHECK_FALSE(fs::exists(dir.path / "a.csv.tmp"));
 
+  // A .tmp that is a link (to a device) is neither followed nor removed: refused.
   fs::create_symlink("/dev/full", dir.path / "a.csv.tmp");
   CHECK_THROWS_WITH(writeAtomically(file, kMegabyte),
-                    Catch::Matchers::StartsWith("cannot write " + file.string()));
+                    Catch::Matchers::StartsWith("cannot write " + file.string()) &&
+                        Catch::Matchers::Contains("not a regular file"));
   CHECK(slurp(file) == "old\n");
-  CHECK_FALSE(fs::is_symlink(dir.path / "a.csv.tmp"));
+  CHECK(fs::is_symlink(dir.path / "a.csv.tmp"));
+  // A target that is a device, or a link to one, is never replaced (as root a rename would).
+  const fs::path link = dir.path / "null-link";
+  fs::create_symlink("/dev/null", link);
+  CHECK_THROWS_WITH(writeAtomically(link, kMegabyte), Catch::Matchers::Contains("not a regular file"));
+  CHECK(fs::is_symlink(link));
+  CHECK_THROWS_WITH(writeAtomically("/dev/null", kMegabyte),
+                    Catch::Matchers::Contains("/dev/null exists and is not a regular file"));
+  CHECK(fs::is_character_file("/dev/null"));
+  CHECK_FALSE(fs::exists("/dev/null.tmp"));
 
   CHECK_THROWS_WITH(writeAtomically(dir.path / "no-such-folder" / "b.csv", kMegabyte),
                     Catch::Matchers::Contains("no-such-folder/b.csv"));
   // An output folder that is a regular file.
   CHECK_THROWS_WITH(makeOutputFolder(file), Catch::Matchers::Contains(file.string()));
+}
+
+TEST_CASE("output: a folder's previous run removes only what its manifest listed", "[cli]") {
+  const Folder dir("output_folder");
+  const fs::path out = dir.path / "out";
+  {
+    OutputFolder first(out, "summary.json");
+    first.write("estimate_a.csv", [](std::ostream& f) { f << "a\n"; });
+    first.write("estimate_b.csv", [](std::ostream& f) { f << "b\n"; });
+    first.writeManifest({{"legkit_version", "test"}});
+    CHECK(first.written() ==
+          std::vector<std::string>{"estimate_a.csv", "estimate_b.csv", "summary.json"});
+  }
+  // The user's own files beside them, a .tmp a killed run left, and a manifest entry that climbs
+  // out of the folder (written by hand: the kit never lists one).
+  std::ofstream(out / "estimate_mine.csv") << "mine\n";
+  std::ofstream(out / "figure.png") << "mine\n";
+  std::ofstream(out / "estimate_a.csv.tmp") << "half\n";
+  std::ofstream(dir.path / "outside.csv") << "mine\n";
+  nlohmann::json manifest = nlohmann::json::parse(slurp(out / "summary.json"));
+  manifest["outputs"].push_back("../outside.csv");
+  std::ofstream(out / "summary.json") << manifest.dump();
+
+  const fs::file_time_type drawing = fs::file_time_type::clock::now();
+  OutputFolder second(out, "summary.json");
+  for (const char* gone : {"estimate_a.csv", "estimate_b.csv", "estimate_a.csv.tmp", "summary.json"})
+    CHECK_FALSE(fs::exists(out / gone));
+  for (const fs::path kept : {out / "estimate_mine.csv", out / "figure.png", dir.path / "outside.csv"})
+    CHECK(slurp(kept) == "mine\n");
+  // A figure drawn after the folder was opened is the run's; the user's older one is not.
+  std::ofstream(out / "drawn.png") << "png\n";
+  second.adopt(".png", drawing);
+  CHECK(second.written() == std::vector<std::string>{"drawn.png"});
+
+  // A summary.json that is not a legkit run's: nothing removed.
+  std::ofstream(out / "summary.json") << "{\"mine\": 1}\n";
+  CHECK_THROWS_WITH(OutputFolder(out, "summary.json"),
+                    Catch::Matchers::Contains("summary.json is not a legkit run's"));
+  CHECK(fs::exists(out / "drawn.png"));
+  CHECK(fs::exists(out / "summary.json"));
 }
 
 TEST_CASE("output: programs run without a shell; their errors are kept", "[cli]") {

@@ -35,8 +35,24 @@ void writeChecked(const fs::path& path, const std::function<void(std::ostream&)>
   }
 }
 
+namespace {
+
+// Throws OutputError unless `path` is absent or a regular file (never a link: it is not followed).
+void checkReplaceable(const fs::path& path, const fs::path& shown) {
+  std::error_code error;
+  const fs::file_status status = fs::symlink_status(path, error);
+  if (error || status.type() == fs::file_type::not_found || fs::is_regular_file(status)) return;
+  throw OutputError("cannot write " + shown.string() + ": " + path.string() +
+                    " exists and is not a regular file (a device, a link, a folder or a FIFO): "
+                    "the kit replaces only regular files");
+}
+
+}  // namespace
+
 void writeAtomically(const fs::path& path, const std::function<void(std::ostream&)>& write) {
   const fs::path tmp = path.string() + ".tmp";
+  checkReplaceable(path, path);
+  checkReplaceable(tmp, path);
   try {
     writeChecked(tmp, write, path.string());
   } catch (...) {
@@ -60,6 +76,64 @@ void makeOutputFolder(const fs::path& dir) {
     throw OutputError("cannot use " + dir.string() + " as the output folder" +
                       (error ? ": " + error.message() : ": it is not a folder"));
   }
+}
+
+OutputFolder::OutputFolder(fs::path dir, std::string manifest)
+    : dir_(std::move(dir)), manifest_(std::move(manifest)) {
+  makeOutputFolder(dir_);
+  const fs::path previous = dir_ / manifest_;
+  std::error_code error;
+  if (!fs::exists(fs::symlink_status(previous, error))) return;
+  nlohmann::json listed;
+  {
+    std::ifstream in(previous);
+    listed = nlohmann::json::parse(in, nullptr, false);
+  }
+  if (!listed.is_object() || !listed.contains("legkit_version")) {
+    throw OutputError("cannot use " + dir_.string() + " as the output folder: its " + manifest_ +
+                      " is not a legkit run's (nothing removed; choose another folder)");
+  }
+  const auto remove = [](const fs::path& p) {
+    std::error_code e;
+    if (!fs::is_regular_file(fs::symlink_status(p, e))) return;  // only the kit's regular files
+    fs::remove(p, e);
+    if (e) throw OutputError("cannot remove the stale " + p.string() + ": " + e.message());
+  };
+  remove(previous);
+  const nlohmann::json outputs = listed.value("outputs", nlohmann::json::array());
+  if (!outputs.is_array()) return;
+  for (const nlohmann::json& name : outputs) {
+    // A plain file name of this folder: nothing with a separator, nothing that climbs out.
+    if (!name.is_string()) continue;
+    const std::string n = name.get<std::string>();
+    if (n.empty() || n == "." || n == ".." || n.find('/') != std::string::npos) continue;
+    remove(dir_ / n);
+    remove(dir_ / (n + ".tmp"));
+  }
+  remove(dir_ / (manifest_ + ".tmp"));
+}
+
+void OutputFolder::write(const std::string& name,
+                         const std::function<void(std::ostream&)>& write) {
+  writeAtomically(path(name), write);
+  written_.push_back(name);
+}
+
+void OutputFolder::adopt(const std::string& extension, fs::file_time_type since) {
+  std::vector<std::string> found;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir_)) {
+    std::error_code error;
+    if (e.path().extension() != extension || !e.is_regular_file(error)) continue;
+    if (e.last_write_time(error) >= since && !error) found.push_back(e.path().filename().string());
+  }
+  std::sort(found.begin(), found.end());
+  written_.insert(written_.end(), found.begin(), found.end());
+}
+
+void OutputFolder::writeManifest(nlohmann::json summary) {
+  written_.push_back(manifest_);
+  summary["outputs"] = written_;
+  writeAtomically(path(manifest_), [&](std::ostream& f) { f << summary.dump(2) << '\n'; });
 }
 
 void printTable(std::ostream& out, const std::vector<std::vector<std::string>>& rows) {

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace legkit::tools {
 
 // Exit codes of every legkit command (README, `legkit --help`).
@@ -42,12 +44,38 @@ void writeChecked(const std::filesystem::path& path,
 
 // Writes path through `write` into "<path>.tmp", checks the stream after flushing and closing it,
 // and only then renames it to path. Throws OutputError naming path on any failure (a full disk, a
-// missing folder); path then keeps whatever it held before.
+// missing folder); path then keeps whatever it held before. Only regular files are replaced: a
+// path (or its .tmp) that is a device, a link, a folder or a FIFO is an OutputError, untouched.
 void writeAtomically(const std::filesystem::path& path,
                      const std::function<void(std::ostream&)>& write);
 
 // Creates the folder (and its parents) for a command's outputs, or throws OutputError.
 void makeOutputFolder(const std::filesystem::path& dir);
+
+// A command's output folder, which may hold a previous run's outputs and the user's own files.
+// The run's manifest (a JSON file whose "outputs" lists the names of the files the run wrote,
+// written last) is what tells the two apart: opening the folder removes the previous manifest
+// first (the folder is incomplete from then on), then exactly the files it listed and the .tmp
+// files a killed run left of them, and nothing else. A manifest that is not a JSON object with
+// "legkit_version" is not the kit's: OutputError, nothing removed.
+class OutputFolder {
+ public:
+  OutputFolder(std::filesystem::path dir, std::string manifest);
+  std::filesystem::path path(const std::string& name) const { return dir_ / name; }
+  // writeAtomically(path(name), write), and `name` recorded as written.
+  void write(const std::string& name, const std::function<void(std::ostream&)>& write);
+  // Records the regular files matching `extension` modified since `since` (a script's figures).
+  void adopt(const std::string& extension, std::filesystem::file_time_type since);
+  // The names written so far, for the manifest.
+  const std::vector<std::string>& written() const { return written_; }
+  // Writes the manifest: `summary` with "outputs" set to written() and the manifest itself.
+  void writeManifest(nlohmann::json summary);
+
+ private:
+  std::filesystem::path dir_;
+  std::string manifest_;
+  std::vector<std::string> written_;
+};
 
 // A text table: each column as wide as its widest cell, columns two spaces apart, the first
 // left-aligned and the others right-aligned (numbers). Rows may have fewer cells than others.

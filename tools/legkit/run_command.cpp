@@ -34,6 +34,7 @@
 #include "scenarios.hpp"
 #include "sim/physics_simulator.hpp"
 #include "sim/simulator.hpp"
+#include "validators.hpp"
 
 namespace legkit::tools {
 namespace {
@@ -141,7 +142,10 @@ std::string rpeCell(const eval::Metrics& m) {
 // timestamps are not in seconds; a step longer than max_gap (default: 10 median periods) is a
 // hole in the log that no estimator should bridge. Throws InputError naming the file and line.
 void checkTimeBase(const io::Log& log, std::optional<double> max_gap) {
-  if (log.rows.size() < 2) return;
+  if (log.rows.size() < 2) {
+    throw InputError(log.source + ": " + std::to_string(log.rows.size()) +
+                     " row(s): a run needs at least two (one interval to integrate)");
+  }
   std::vector<double> dt(log.rows.size() - 1);
   for (std::size_t k = 1; k < log.rows.size(); ++k) dt[k - 1] = log.rows[k].t - log.rows[k - 1].t;
   std::vector<double> sorted = dt;
@@ -162,27 +166,6 @@ void checkTimeBase(const io::Log& log, std::optional<double> max_gap) {
        << (max_gap ? "--max-gap" : "10 median sample periods; --max-gap sets another bound") << ")";
     throw InputError(os.str());
   }
-}
-
-// A previous run's outputs: summary.json first (the folder is incomplete from here on), then its
-// estimates (CSV and TUM), truth.tum and plots, so that none of them can pass for this run's.
-void removeStaleOutputs(const fs::path& dir) {
-  const auto remove = [](const fs::path& p) {
-    std::error_code error;
-    fs::remove(p, error);
-    if (error) throw OutputError("cannot remove the stale " + p.string() + ": " + error.message());
-  };
-  remove(dir / "summary.json");
-  std::vector<fs::path> stale;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
-    const std::string name = e.path().filename().string();
-    const std::string ext = e.path().extension().string();
-    if ((name.rfind("estimate_", 0) == 0 && (ext == ".csv" || ext == ".tum")) ||
-        name == "truth.tum" || ext == ".png") {
-      stale.push_back(e.path());
-    }
-  }
-  for (const fs::path& p : stale) remove(p);
 }
 
 // Each run's detected contacts against the log's true contact (the rows the run covered).
@@ -421,8 +404,8 @@ RunCommand::RunCommand(CLI::App& app)
       c.add_option("--settle", settle_,
                    "Touchdown settling time [s]: a foot just put down is left out of the filters "
                    "for this long (default " +
-                       number(kDefaultSettle) + "; 0 on the analytic scenarios; 0: off)")
-          ->check(CLI::NonNegativeNumber);
+                       number(kDefaultSettle) + "; 0 on the analytic scenarios; 0: off; 1 s at most, as in the settings file)")
+          ->check(finiteRange(0.0, 1.0));
   // Not CLI::ExistingFile: a file that cannot be read is an input error (exit 2).
   c.add_option("--config", config_,
                "Settings file (`legkit config --print` writes the defaults): the estimators that "
@@ -501,6 +484,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   if (settings) {
     noise = settings->frontend;
     pipeline_options = settings->pipeline;
+    pipeline_options.limits = settings->limits;
     if (!contact_.empty()) pipeline_options.contact = contact_;
     if (!slip_.empty()) pipeline_options.slip = *slip::slipReactionByName(slip_);
     if (rolling_option_->count() > 0) pipeline_options.rolling_foot = rolling_foot_;
@@ -566,14 +550,14 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
                        : !log_.empty()
                            ? fs::path("legkit-out") / fs::path(log_).stem()
                            : fs::path("legkit-out") / (scenario_ + "-seed" + std::to_string(seed_));
-  // The folder is complete only once summary.json is in it: that goes first, and is written last.
-  makeOutputFolder(dir);
-  removeStaleOutputs(dir);
-  const fs::path log_path = log_.empty() ? dir / "log.csv" : fs::path(log_);
-  if (log_.empty()) writeAtomically(log_path, [&](std::ostream& f) { io::writeLog(f, log); });
+  // The folder is complete only once summary.json, the manifest of what this run wrote, is in
+  // it: the previous one goes first (and the files it listed), this one is written last.
+  OutputFolder folder(dir, "summary.json");
+  const fs::path log_path = log_.empty() ? folder.path("log.csv") : fs::path(log_);
+  if (log_.empty()) folder.write("log.csv", [&](std::ostream& f) { io::writeLog(f, log); });
   if (tum_ && log.layout.ground_truth) {
-    writeAtomically(dir / "truth.tum",
-                    [&](std::ostream& f) { writeTumTruth(f, log, estimate_rate_, logged_stamps); });
+    folder.write("truth.tum",
+                 [&](std::ostream& f) { writeTumTruth(f, log, estimate_rate_, logged_stamps); });
   }
 
   const EstimateSample x0 = eval::initialState(log);
@@ -589,11 +573,11 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
           eval::compare(log, r.run.trajectory, {kRpeDistances.begin(), kRpeDistances.end()});
     }
     r.contact_scores = contactScores(log, r.run);
-    writeAtomically(dir / ("estimate_" + r.run.name + ".csv"), [&](std::ostream& f) {
+    folder.write("estimate_" + r.run.name + ".csv", [&](std::ostream& f) {
       writeEstimates(f, r.run, estimate_rate_, logged_stamps);
     });
     if (tum_) {
-      writeAtomically(dir / ("estimate_" + r.run.name + ".tum"), [&](std::ostream& f) {
+      folder.write("estimate_" + r.run.name + ".tum", [&](std::ostream& f) {
         writeTum(f, r.run.trajectory, estimateRows(r.run.trajectory, estimate_rate_),
                  logged_stamps);
       });
@@ -603,7 +587,11 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   bool all_ok = true;
   for (const RunRow& r : rows) all_ok = all_ok && r.run.ok();
   std::string plot_failure;  // empty: drawn (or not asked for)
-  if (plots_) plot_failure = plot("run_plots.py", {dir.string(), "--log", log_path.string()});
+  if (plots_) {
+    const fs::file_time_type drawing = fs::file_time_type::clock::now();
+    plot_failure = plot("run_plots.py", {dir.string(), "--log", log_path.string()});
+    folder.adopt(".png", drawing);
+  }
   // A plot that failed is an output not written (2); it outranks an unhealthy estimator (3).
   const int status = plotFailed(plot_failure) ? kExitInput
                      : all_ok && fall.empty() ? kExitOk
@@ -631,7 +619,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
                 : plot_failure.empty() ? "drawn"
                                        : plot_failure},
       {"estimators", toJson(rows)}};
-  writeAtomically(dir / "summary.json", [&](std::ostream& f) { f << summary.dump(2) << '\n'; });
+  folder.writeManifest(std::move(summary));
 
   if (json_) {
     out << toJson(rows).dump(2) << '\n';
