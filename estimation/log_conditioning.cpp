@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -153,6 +154,39 @@ ConditioningReport condition(io::Log& log, const LogConditioning& what) {
     }
   }
   return report;
+}
+
+// The time base of a recorded log: a median period outside [10 us, 100 ms] means the
+// timestamps are not in seconds; a step longer than max_gap (default: 10 median periods) is a
+// hole in the log that no estimator should bridge. Throws std::invalid_argument naming the file
+// and line (and `gap_option`, the way to give another bound).
+void checkTimeBase(const io::Log& log, std::optional<double> max_gap,
+                   const std::string& gap_option) {
+  if (log.rows.size() < 2) {
+    throw std::invalid_argument(log.source + ": " + std::to_string(log.rows.size()) +
+                     " row(s): a run needs at least two (one interval to integrate)");
+  }
+  std::vector<double> dt(log.rows.size() - 1);
+  for (std::size_t k = 1; k < log.rows.size(); ++k) dt[k - 1] = log.rows[k].t - log.rows[k - 1].t;
+  std::vector<double> sorted = dt;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  if (median < 1e-5 || median > 0.1) {
+    std::ostringstream os;
+    os << log.source << ": the median time between samples is " << median
+       << " s, outside [1e-05, 0.1] s: are the timestamps in seconds? (chapters/57.0)";
+    throw std::invalid_argument(os.str());
+  }
+  const double bound = max_gap.value_or(10.0 * median);
+  for (std::size_t k = 1; k < log.rows.size(); ++k) {
+    if (dt[k - 1] <= bound) continue;
+    std::ostringstream os;
+    os << log.source << ":" << log.lineOfRow(k) << ": a gap of " << dt[k - 1]
+       << " s after t = " << log.rows[k - 1].t << " s, more than " << bound << " s ("
+       << (max_gap ? gap_option : "10 median sample periods; " + gap_option + " sets another bound")
+       << ")";
+    throw std::invalid_argument(os.str());
+  }
 }
 
 }  // namespace legkit

@@ -17,6 +17,7 @@
 //    variance of an integral over any interval, however it is sampled.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,13 @@ double stampJitter(const std::vector<double>& t);
 // and not across a gap, evaluated at its row. Throws std::invalid_argument naming the row when
 // the result would not increase strictly.
 std::vector<double> smoothedStamps(const std::vector<double>& t, int half_window = kStampWindow);
+
+// The time base of a recorded log, checked before anything else: at least two rows; a median
+// period outside [10 us, 100 ms] means the stamps are not in seconds; a step longer than max_gap
+// (default: 10 median periods) is a hole no estimator should bridge. Throws std::invalid_argument
+// naming the file and line (and `gap_option`, the way to give another bound).
+void checkTimeBase(const io::Log& log, std::optional<double> max_gap,
+                   const std::string& gap_option);
 
 // What condition() did, for the run's summary.
 struct ConditioningReport {

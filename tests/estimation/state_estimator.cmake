@@ -14,3 +14,20 @@ add_test(NAME legkit_estimate_gives_up
 set_tests_properties(legkit_estimate_gives_up
                      PROPERTIES LABELS "57.11;cli;physics" PASS_REGULAR_EXPRESSION
                                 "filter started at t = 0\\.80[0-9] s \\(gave up: tilt from the last samples\\)")
+
+# legkit-estimate on the shipped iCub log with its settings: generic joints through the robot's
+# URDF, the log's front end (smoothed stamps, velocities from the angles) as in `legkit run`.
+add_test(NAME legkit_estimate_real_log
+         COMMAND $<TARGET_FILE:legkit-estimate> ${PROJECT_SOURCE_DIR}/data/icub-walking/walking.csv
+                 --config ${PROJECT_SOURCE_DIR}/config/robots/icub.yaml)
+set_tests_properties(legkit_estimate_real_log
+                     PROPERTIES LABELS "57.11;cli;real-robot" PASS_REGULAR_EXPRESSION
+                                "front end: time stamps smoothed.*invariant-ekf on contacts from schmitt.*position RMSE 0\\.0[0-2][0-9] m")
+# Without the settings the same log's generic joints have no robot: exit 2, and the message says
+# what to give.
+add_test(NAME legkit_estimate_needs_the_robot
+         COMMAND /bin/sh -c "\"$1\" \"$2\" > out.txt 2>&1; s=$?; cat out.txt; \
+test $s -eq 2 && grep -q 'need the robot.s model: --config with a robot: section' out.txt"
+                 sh $<TARGET_FILE:legkit-estimate> ${PROJECT_SOURCE_DIR}/data/icub-walking/walking.csv
+         WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+set_tests_properties(legkit_estimate_needs_the_robot PROPERTIES LABELS "57.11;cli;real-robot")

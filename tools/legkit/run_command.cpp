@@ -138,36 +138,6 @@ std::string rpeCell(const eval::Metrics& m) {
   return cell(e == m.rpe.end() ? eval::kNotComputed : e->translation_percent, 1);
 }
 
-// The time base of a recorded log: a median period outside [10 us, 100 ms] means the
-// timestamps are not in seconds; a step longer than max_gap (default: 10 median periods) is a
-// hole in the log that no estimator should bridge. Throws InputError naming the file and line.
-void checkTimeBase(const io::Log& log, std::optional<double> max_gap) {
-  if (log.rows.size() < 2) {
-    throw InputError(log.source + ": " + std::to_string(log.rows.size()) +
-                     " row(s): a run needs at least two (one interval to integrate)");
-  }
-  std::vector<double> dt(log.rows.size() - 1);
-  for (std::size_t k = 1; k < log.rows.size(); ++k) dt[k - 1] = log.rows[k].t - log.rows[k - 1].t;
-  std::vector<double> sorted = dt;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double median = sorted[sorted.size() / 2];
-  if (median < 1e-5 || median > 0.1) {
-    std::ostringstream os;
-    os << log.source << ": the median time between samples is " << median
-       << " s, outside [1e-05, 0.1] s: are the timestamps in seconds? (chapters/57.0)";
-    throw InputError(os.str());
-  }
-  const double bound = max_gap.value_or(10.0 * median);
-  for (std::size_t k = 1; k < log.rows.size(); ++k) {
-    if (dt[k - 1] <= bound) continue;
-    std::ostringstream os;
-    os << log.source << ":" << log.lineOfRow(k) << ": a gap of " << dt[k - 1]
-       << " s after t = " << log.rows[k - 1].t << " s, more than " << bound << " s ("
-       << (max_gap ? "--max-gap" : "10 median sample periods; --max-gap sets another bound") << ")";
-    throw InputError(os.str());
-  }
-}
-
 // Each run's detected contacts against the log's true contact (the rows the run covered).
 std::optional<eval::ContactScores> contactScores(const io::Log& log, const eval::RunResult& run) {
   const std::size_t n = run.detected_contact.size();
@@ -438,8 +408,13 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   std::vector<double> logged_stamps;
   if (!log_.empty()) {
     log = io::readLog(log_);
-    checkTimeBase(log, max_gap_ > 0 ? std::optional<double>(max_gap_) : std::nullopt);
     for (const io::LogRow& row : log.rows) logged_stamps.push_back(row.t);
+    try {
+      checkTimeBase(log, max_gap_ > 0 ? std::optional<double>(max_gap_) : std::nullopt,
+                    "--max-gap");
+    } catch (const std::invalid_argument& e) {
+      throw InputError(e.what());  // names the file and line
+    }
     try {
       conditioning = condition(log, settings ? settings->conditioning : LogConditioning{});
     } catch (const std::invalid_argument& e) {

@@ -2,7 +2,9 @@
 // row by row as a robot's control loop would feed it (IMU, joints, foot forces), with a model-
 // predictive controller querying it at its own rate. Prints the time per update, the MPC
 // queries' ages and what those ages cost, and (with ground truth) the errors; --out writes the
-// states.
+// states. The log goes through the checks and the front end of `legkit run` (its time base, then
+// estimation/log_conditioning.hpp); the robot, its noise and the pipeline come from --config (the
+// quadruped's joints, or generic joints with the settings' robot), the options override it.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -15,9 +17,12 @@
 #include <string>
 #include <vector>
 
+#include "estimation/log_conditioning.hpp"
+#include "estimation/settings.hpp"
 #include "estimation/state_estimator.hpp"
 #include "eval/metrics.hpp"
 #include "io/log_reader.hpp"
+#include "validators.hpp"
 
 namespace {
 
@@ -36,9 +41,10 @@ Eigen::Vector3d truthPositionAt(const io::Log& log, std::size_t k, double t) {
 
 struct Options {
   std::string log_path;
-  std::string estimator = "invariant-ekf";
-  std::string contact = "schmitt";
-  double settle = 0.0;
+  std::string config;  // settings file ("": the defaults, with the options' own defaults below)
+  std::optional<std::string> estimator;  // unset: the settings' first estimator
+  std::optional<std::string> contact;    // unset: the settings' detector
+  std::optional<double> settle;          // unset: the settings' settling
   double init_duration = -1.0;  // [s] still window; 0: off; < 0: the settings' default
   // [s] without a still window before the manager gives up and starts from the last samples' tilt
   // (the settings' 10 s would take a whole simulated 10 s log; 0.8 s is within the simulated
@@ -52,16 +58,30 @@ struct Options {
 int run(const Options& o) {
   if (!(o.mpc_rate > 0.0)) throw std::invalid_argument("--mpc-rate must be positive");
   if (!(o.mpc_latency >= 0.0)) throw std::invalid_argument("--mpc-latency must be >= 0");
-  const io::Log log = io::readLog(o.log_path);
-  if (!log.layout.joints) {
-    throw std::invalid_argument(o.log_path +
-                                ": the manager needs the quadruped's joint columns (q_, dq_)");
+  // Without a settings file: the invariant EKF on the Schmitt trigger, no settling (the options'
+  // defaults before settings files); with one, its values unless an option is given.
+  Settings settings = o.config.empty() ? Settings{} : loadSettings(o.config);
+  if (o.config.empty()) {
+    settings.estimators = {"invariant-ekf"};
+    settings.pipeline.contact = "schmitt";
+    settings.pipeline.settle_time = 0.0;
   }
-  if (log.rows.empty()) throw std::invalid_argument(o.log_path + ": no rows");
-  Settings settings;
-  settings.estimators = {o.estimator};
-  settings.pipeline.contact = o.contact;
-  settings.pipeline.settle_time = o.settle;
+  if (o.estimator) settings.estimators = {*o.estimator};
+  if (o.contact) settings.pipeline.contact = *o.contact;
+  if (o.settle) settings.pipeline.settle_time = *o.settle;
+  io::Log log = io::readLog(o.log_path);
+  const int generic = log.layout.num_joints;
+  if (!log.layout.joints && generic == 0) {
+    throw std::invalid_argument(
+        o.log_path + ": the manager takes joints (the quadruped's q_, dq_ or generic joint<k>_q, "
+                     "joint<k>_dq with the settings' robot), and this log has foot columns only");
+  }
+  if (generic > 0 && settings.robot.model.empty()) {
+    throw std::invalid_argument(o.log_path + ": generic joint columns (joint<k>_q) need the "
+                                             "robot's model: --config with a robot: section");
+  }
+  checkTimeBase(log, std::nullopt, "legkit run --max-gap");
+  const ConditioningReport conditioning = condition(log, settings.conditioning);
   if (o.init_duration == 0.0) settings.initialisation.enabled = false;
   if (o.init_duration > 0.0) settings.initialisation.duration = o.init_duration;
   if (!(o.init_wait >= 0.0)) throw std::invalid_argument("--init-wait must be >= 0");
@@ -99,8 +119,14 @@ int run(const Options& o) {
   for (std::size_t k = 0; k < log.rows.size(); ++k) {
     const io::LogRow& row = log.rows[k];
     imu = {row.t, row.gyro, row.acc};
-    joints.q.head<io::kNumJoints>() = row.q;
-    joints.dq.head<io::kNumJoints>() = row.dq;
+    if (generic > 0) {
+      joints.count = generic;
+      joints.q = row.joint_q;
+      joints.dq = row.joint_dq;
+    } else {
+      joints.q.head<io::kNumJoints>() = row.q;
+      joints.dq.head<io::kNumJoints>() = row.dq;
+    }
     for (int f = 0; f < io::kNumLegs; ++f) {
       forces.force[f] = row.force[f];
       forces.contact[f] = row.contact[f];
@@ -154,8 +180,10 @@ int run(const Options& o) {
   std::cout << std::fixed << std::setprecision(3);
   std::cout << "log " << o.log_path << ": " << log.rows.size() << " rows, "
             << (log.rows.back().t - log.rows.front().t) << " s\n"
+            << "settings: " << (o.config.empty() ? "the defaults" : o.config) << "\n"
+            << "front end: " << conditioning.describe() << "\n"
             << "manager: " << manager.estimatorName() << " on contacts from "
-            << manager.contactSource() << ", settle " << o.settle << " s\n"
+            << manager.contactSource() << ", settle " << settings.pipeline.settle_time << " s\n"
             << "update: mean " << mean << " us, median " << sorted[sorted.size() / 2] << " us, p99 "
             << sorted[sorted.size() * 99 / 100] << " us, max " << sorted.back()
             << " us (wall time on this machine; bench_state_estimator measures it properly)\n";
@@ -192,10 +220,17 @@ int main(int argc, char** argv) {
   CLI::App app{"legkit-estimate: the estimator manager (57.11) on a log, row by row"};
   Options o;
   app.add_option("log", o.log_path, "Log (CSV) with joint and foot-force columns")->required();
-  app.add_option("--estimator", o.estimator, "Filter")->capture_default_str();
-  app.add_option("--contact", o.contact, "Contact detector, or truth for the log's flags")
-      ->capture_default_str();
-  app.add_option("--settle", o.settle, "Touchdown settling [s]")->capture_default_str();
+  app.add_option("--config", o.config,
+                 "Settings file (legkit config --print): the robot, its noise, the pipeline; the "
+                 "options below override it");
+  app.add_option("--estimator", o.estimator,
+                 "Filter (default: the settings' first estimator, invariant-ekf without --config)");
+  app.add_option("--contact", o.contact,
+                 "Contact detector, or truth for the log's flags (default: the settings', schmitt "
+                 "without --config)");
+  app.add_option("--settle", o.settle,
+                 "Touchdown settling [s] (default: the settings', 0 without --config)")
+      ->check(legkit::tools::finiteRange(0.0, 1.0));
   app.add_option("--init", o.init_duration,
                  "Stationary initialisation window [s] on a log without truth (0: off; default: "
                  "the settings' 2 s)");
