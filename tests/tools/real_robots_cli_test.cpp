@@ -74,6 +74,21 @@ TEST_CASE("The shipped iCub log: every filter within 3 cm, yaw the gyro's, ANEES
   CHECK(t.at("linear-kf").position < 0.045);
 }
 
+TEST_CASE("--dataset icub-walking is the shipped log with its settings, one command",
+          "[cli][real-robot]") {
+  const test::ScratchFolder dir("icub_dataset");
+  std::string output;
+  std::map<std::string, Row> t;
+  REQUIRE(runLegkit(dir.path, {"--dataset", "icub-walking"}, t, output) == 0);
+  CHECK_THAT(output, Catch::Matchers::Contains("data/icub-walking/walking.csv (1188 samples)") &&
+                         Catch::Matchers::Contains("config/robots/icub.yaml"));
+  CHECK(t.at("invariant-ekf").position < 0.03);
+  // A log of its own as well is refused (the dataset is one); an unknown dataset is named.
+  CHECK(runLegkit(dir.path, {"--dataset", "icub-walking", "--log", "x.csv"}, t, output) == 1);
+  CHECK(runLegkit(dir.path, {"--dataset", "no-such-log"}, t, output) == 1);
+  CHECK_THAT(output, Catch::Matchers::Contains("--dataset"));
+}
+
 TEST_CASE(
     "physics-real: heading corrections from the feet lose yaw; the heading rule (the default) "
     "keeps the gyro's",

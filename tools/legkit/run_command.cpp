@@ -342,7 +342,18 @@ RunCommand::RunCommand(CLI::App& app)
   c.add_option("--seed", seed_, "Random seed of the simulation")->capture_default_str();
   // Not CLI::ExistingFile: a log that cannot be read is an input error (exit 2), whatever the
   // reason, with the reader's own message.
-  c.add_option("--log", log_, "Run on this recorded log (CSV, chapters/57.0) instead");
+  CLI::Option* log = c.add_option("--log", log_, "Run on this recorded log (CSV, chapters/57.0) instead");
+  // A recorded log shipped with the kit: its log and its settings file (a --config given as well
+  // replaces the settings).
+  c.add_option("--dataset", dataset_,
+               "Run on a recorded log shipped with the kit, with its settings: icub-walking "
+               "(data/icub-walking, config/robots/icub.yaml)")
+      ->check(CLI::IsMember({"icub-walking"}))
+      ->excludes(log)
+      ->each([this](const std::string&) {
+        log_ = LEGKIT_SOURCE_DIR "/data/icub-walking/walking.csv";
+        if (config_.empty()) config_ = LEGKIT_SOURCE_DIR "/config/robots/icub.yaml";
+      });
   c.add_option("--max-gap", max_gap_,
                "Longest step allowed between samples of --log [s] (default 10 median periods)")
       ->check(CLI::PositiveNumber);

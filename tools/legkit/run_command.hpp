@@ -84,6 +84,7 @@ class RunCommand {
   std::string scenario_ = "physics-trot";
   double duration_ = 60.0;
   unsigned seed_ = 1;
+  std::string dataset_;  // --dataset: a shipped log; sets log_ (and config_ unless given)
   std::string log_;
   double max_gap_ = 0.0;  // 0: 10 median periods
   std::string out_dir_;
