@@ -129,7 +129,7 @@ class ContactPipeline {
   std::unique_ptr<contact::ContactDetector> detector_;
   leg_odometry::RollingFoot rolling_;
   Eigen::Vector3d w_admitted_ = Eigen::Vector3d::Zero();  // the last gyro sample within limits
-  FootVelocityDifferentiator velocities_;  // foot columns without velocity columns
+  FootVelocityDifferentiator velocities_;                 // foot columns without velocity columns
   slip::SlipGuard guard_;
   contact::ContactEstimate contacts_;                    // the source's answer
   std::array<bool, contact::kMaxFeet> down_{};           // the source's contact, last row

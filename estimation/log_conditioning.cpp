@@ -98,7 +98,8 @@ std::string ConditioningReport::describe() const {
     os << "as logged (jitter " << std::lround(100.0 * jitter) << " %"
        << (smoothing_failure.empty() ? "" : "; not smoothed: " + smoothing_failure) << ")";
   }
-  os << "; joint velocities " << (velocities_from_angles ? "differentiated from the angles" : "as logged");
+  os << "; joint velocities "
+     << (velocities_from_angles ? "differentiated from the angles" : "as logged");
   if (held_imu_rows > 0) os << "; IMU held on " << held_imu_rows << " rows (integrated as held)";
   return os.str();
 }
@@ -146,11 +147,13 @@ ConditioningReport condition(io::Log& log, const LogConditioning& what) {
       what.joint_velocities == JointVelocitySource::kAngles && has_joints && rows.size() >= 2;
   if (report.velocities_from_angles) {
     if (log.layout.joints) {
-      differentiate(rows, [](io::LogRow& r) -> io::JointVector& { return r.q; },
-                    [](io::LogRow& r) -> io::JointVector& { return r.dq; });
+      differentiate(
+          rows, [](io::LogRow& r) -> io::JointVector& { return r.q; },
+          [](io::LogRow& r) -> io::JointVector& { return r.dq; });
     } else {
-      differentiate(rows, [](io::LogRow& r) -> io::GenericJointVector& { return r.joint_q; },
-                    [](io::LogRow& r) -> io::GenericJointVector& { return r.joint_dq; });
+      differentiate(
+          rows, [](io::LogRow& r) -> io::GenericJointVector& { return r.joint_q; },
+          [](io::LogRow& r) -> io::GenericJointVector& { return r.joint_dq; });
     }
   }
   return report;
@@ -164,7 +167,7 @@ void checkTimeBase(const io::Log& log, std::optional<double> max_gap,
                    const std::string& gap_option) {
   if (log.rows.size() < 2) {
     throw std::invalid_argument(log.source + ": " + std::to_string(log.rows.size()) +
-                     " row(s): a run needs at least two (one interval to integrate)");
+                                " row(s): a run needs at least two (one interval to integrate)");
   }
   std::vector<double> dt(log.rows.size() - 1);
   for (std::size_t k = 1; k < log.rows.size(); ++k) dt[k - 1] = log.rows[k].t - log.rows[k - 1].t;

@@ -64,13 +64,13 @@ void checkTimeBase(const io::Log& log, std::optional<double> max_gap,
 
 // What condition() did, for the run's summary.
 struct ConditioningReport {
-  double jitter = 0.0;              // stampJitter() of the log as recorded
-  bool stamps_smoothed = false;     // the stamps were replaced by smoothedStamps()
-  double max_stamp_shift = 0.0;     // the largest |smoothed - logged| [s]
-  std::string smoothing_failure;    // auto only: why the jittery stamps were kept as logged
+  double jitter = 0.0;            // stampJitter() of the log as recorded
+  bool stamps_smoothed = false;   // the stamps were replaced by smoothedStamps()
+  double max_stamp_shift = 0.0;   // the largest |smoothed - logged| [s]
+  std::string smoothing_failure;  // auto only: why the jittery stamps were kept as logged
   bool velocities_from_angles = false;
-  int held_imu_rows = 0;            // rows whose gyro and accelerometer equal the row before
-  std::string describe() const;     // one line
+  int held_imu_rows = 0;         // rows whose gyro and accelerometer equal the row before
+  std::string describe() const;  // one line
 };
 
 // Applies `what` to `log` (joint velocities of the quadruped's q and of generic joints alike).

@@ -64,15 +64,17 @@
 // 57.5): physics-real yaw 1.44 deg (the gyro alone 1.46; with heading corrections 5.7-6.0),
 // position 0.09 m (0.13); the ideal physics trot, where the exact leg scale lets the feet learn
 // the bias, pays for it: yaw 1.59 against 0.65-0.90, position 0.21-0.25 m against 0.20-0.23 m.
-// The default, because it holds on every robot measured: on the eight physics scenarios and the
-// iCub log each filter's yaw stays within 0.02 deg of the gyro's, where heading corrections lose
-// it on physics-real (above) and physics-ice (2.7 / 1.6 deg against 0.70). What it costs is on a
-// robot whose legs are exact, whose feet would learn the gyro bias: the 300 s analytic trot
-// (legkit run --scenario trot --duration 300 --config FILE with correct_yaw true / false): yaw
-// 1.5 / 0.7 deg (ESKF / InEKF) against the rule's 5.4 and the gyro's 4.7, position 1.9 / 0.7 m
-// against 4.6 / 1.9 m; there the ESKF's position covariance follows the heading's only in part
-// (ANEES 1.33, the InEKF's 0.77: its error is the one in which the turn is exact). A robot with
-// legs calibrated to a fraction of a percent sets feet.correct_yaw: true.
+// The default, because it holds on every robot measured: on the eight physics scenarios each
+// filter's yaw stays within 0.02 deg of the gyro's (0.04 on the iCub log), where heading
+// corrections lose it on physics-real (above) and physics-ice (2.7 / 1.6 deg against 0.70). What
+// it costs is on a robot whose legs are exact, whose feet would learn the gyro bias: the 300 s
+// analytic trot (legkit run --scenario trot --duration 300 --config FILE with correct_yaw true /
+// false): yaw 1.5 / 0.7 deg (ESKF / InEKF) against the rule's 5.4 and the gyro's 4.7, position
+// 1.9 / 0.7 m against 4.6 / 1.9 m. And a defect not yet understood: there the ESKF's (and the
+// TSIF's) position covariance follows the growing heading variance only in part, the InEKF's in
+// full (ANEES 1.33 against 0.77; on the analytic front end without a file, 5.37 against 1.00;
+// the plain filters 0.50 and 0.45). A robot with legs calibrated to a fraction of a percent sets
+// feet.correct_yaw: true.
 //
 // Gating (section 57.9, GatingParams, off by default): before a stance foot's update, its
 // innovation r (against the error mean of the feet before it) is tested with d^2 = r^T S^-1 r,

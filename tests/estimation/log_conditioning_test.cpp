@@ -50,7 +50,8 @@ TEST_CASE("a clocked log has no jitter and its stamps are left alone", "[57.11][
   CHECK(report.jitter < 1e-6);  // the rounding of k dt
   CHECK_FALSE(report.stamps_smoothed);
   CHECK_FALSE(report.velocities_from_angles);
-  for (std::size_t k = 0; k < log.rows.size(); ++k) REQUIRE(io::exactlyEqual(log.rows[k], recorded.rows[k]));
+  for (std::size_t k = 0; k < log.rows.size(); ++k)
+    REQUIRE(io::exactlyEqual(log.rows[k], recorded.rows[k]));
 }
 
 TEST_CASE("smoothed stamps: a line stays, jitter averages out, a drift and a gap stay",
@@ -60,7 +61,8 @@ TEST_CASE("smoothed stamps: a line stays, jitter averages out, a drift and a gap
     for (std::size_t k = 0; k < t.size(); ++k) t[k] = 3.0 + 0.01 * static_cast<double>(k);
     CHECK(maxError(smoothedStamps(t), t) < 1e-12);
   }
-  SECTION("jitter of up to 0.8 periods: within a quarter period of the clock, plus the mean delay") {
+  SECTION(
+      "jitter of up to 0.8 periods: within a quarter period of the clock, plus the mean delay") {
     std::vector<double> clock;
     const std::vector<double> t = jitteredStamps(400, kPeriod, clock);
     CHECK(stampJitter(t) > kStampJitterLimit);
@@ -96,15 +98,15 @@ TEST_CASE("condition: jittery stamps smoothed on auto, joint velocities from the
   io::Log log = simulatedTrot();
   std::vector<double> clock;
   const double period = log.rows[1].t - log.rows[0].t;
-  const std::vector<double> t =
-      jitteredStamps(static_cast<int>(log.rows.size()), period, clock);
+  const std::vector<double> t = jitteredStamps(static_cast<int>(log.rows.size()), period, clock);
   for (std::size_t k = 0; k < log.rows.size(); ++k) log.rows[k].t = t[k];
   log.rows[5].gyro = log.rows[4].gyro;
   log.rows[5].acc = log.rows[4].acc;
 
   SECTION("auto smooths, logged keeps") {
     io::Log kept = log;
-    CHECK_FALSE(condition(kept, {StampHandling::kLogged, JointVelocitySource::kLogged}).stamps_smoothed);
+    CHECK_FALSE(
+        condition(kept, {StampHandling::kLogged, JointVelocitySource::kLogged}).stamps_smoothed);
     CHECK(kept.rows[10].t == t[10]);
     const ConditioningReport report = condition(log, {});
     CHECK(report.stamps_smoothed);
@@ -119,15 +121,16 @@ TEST_CASE("condition: jittery stamps smoothed on auto, joint velocities from the
         condition(log, {StampHandling::kAuto, JointVelocitySource::kAngles});
     REQUIRE(report.velocities_from_angles);
     for (std::size_t k = 1; k < log.rows.size(); ++k) {
-      const io::JointVector expected = (recorded.rows[k].q - recorded.rows[k - 1].q) /
-                                       (log.rows[k].t - log.rows[k - 1].t);
+      const io::JointVector expected =
+          (recorded.rows[k].q - recorded.rows[k - 1].q) / (log.rows[k].t - log.rows[k - 1].t);
       REQUIRE((log.rows[k].dq - expected).norm() < 1e-9 * (1.0 + expected.norm()));
     }
     CHECK(log.rows[0].dq == log.rows[1].dq);
     // The simulated velocities and the differences agree to the differentiated noise: the
     // encoder noise (1.75e-4 rad) over 1 ms, 0.25 rad/s RMS per joint.
     double sum = 0.0;
-    for (std::size_t k = 1; k < log.rows.size(); ++k) sum += (log.rows[k].dq - recorded.rows[k].dq).squaredNorm();
+    for (std::size_t k = 1; k < log.rows.size(); ++k)
+      sum += (log.rows[k].dq - recorded.rows[k].dq).squaredNorm();
     CHECK(std::sqrt(sum / (12.0 * static_cast<double>(log.rows.size()))) < 0.5);
   }
 }

@@ -172,7 +172,8 @@ TEST_CASE("rolling foot: bad input", "[57.3][leg_odometry][rolling_foot]") {
   in.contacts[0].foot = 1;
   in.contacts[0].v_body.reset();
   const Vector3d before = in.contacts[0].p_body;
-  CHECK_THROWS_WITH(rolling.apply(in, Matrix3d::Identity(), in.imu.w_m, Q, DQ), Catch::Contains("v_body"));
+  CHECK_THROWS_WITH(rolling.apply(in, Matrix3d::Identity(), in.imu.w_m, Q, DQ),
+                    Catch::Contains("v_body"));
   CHECK(in.contacts[0].p_body == before);
   g.foot_radius = -0.01;
   CHECK_THROWS_AS(RollingFoot(g), std::invalid_argument);

@@ -56,7 +56,8 @@ TEST_CASE("output: writeAtomically keeps the old file when the new one cannot be
   // A target that is a device, or a link to one, is never replaced (as root a rename would).
   const fs::path link = dir.path / "null-link";
   fs::create_symlink("/dev/null", link);
-  CHECK_THROWS_WITH(writeAtomically(link, kMegabyte), Catch::Matchers::Contains("not a regular file"));
+  CHECK_THROWS_WITH(writeAtomically(link, kMegabyte),
+                    Catch::Matchers::Contains("not a regular file"));
   CHECK(fs::is_symlink(link));
   CHECK_THROWS_WITH(writeAtomically("/dev/null", kMegabyte),
                     Catch::Matchers::Contains("/dev/null exists and is not a regular file"));
@@ -92,9 +93,11 @@ TEST_CASE("output: a folder's previous run removes only what its manifest listed
 
   const fs::file_time_type drawing = fs::file_time_type::clock::now();
   OutputFolder second(out, "summary.json");
-  for (const char* gone : {"estimate_a.csv", "estimate_b.csv", "estimate_a.csv.tmp", "summary.json"})
+  for (const char* gone :
+       {"estimate_a.csv", "estimate_b.csv", "estimate_a.csv.tmp", "summary.json"})
     CHECK_FALSE(fs::exists(out / gone));
-  for (const fs::path kept : {out / "estimate_mine.csv", out / "figure.png", dir.path / "outside.csv"})
+  for (const fs::path kept :
+       {out / "estimate_mine.csv", out / "figure.png", dir.path / "outside.csv"})
     CHECK(slurp(kept) == "mine\n");
   // A figure drawn after the folder was opened is the run's; the user's older one is not.
   std::ofstream(out / "drawn.png") << "png\n";

@@ -67,9 +67,9 @@ TEST_CASE("The shipped iCub log: every filter within 3 cm, yaw the gyro's, ANEES
   }
   // The front end smooths the jittery stamps and differentiates the angles (icub.yaml): leg
   // odometry 0.033 m; on the recorded joint velocities it was 0.062 m.
-  CHECK_THAT(output, Catch::Matchers::Contains(
-                         "time stamps smoothed (jitter 25 % of the row interval") &&
-                         Catch::Matchers::Contains("joint velocities differentiated from the angles"));
+  CHECK_THAT(output,
+             Catch::Matchers::Contains("time stamps smoothed (jitter 25 % of the row interval") &&
+                 Catch::Matchers::Contains("joint velocities differentiated from the angles"));
   CHECK(t.at("leg-odometry").position < 0.045);
   CHECK(t.at("linear-kf").position < 0.045);
 }

@@ -113,8 +113,7 @@ OutputFolder::OutputFolder(fs::path dir, std::string manifest)
   remove(dir_ / (manifest_ + ".tmp"));
 }
 
-void OutputFolder::write(const std::string& name,
-                         const std::function<void(std::ostream&)>& write) {
+void OutputFolder::write(const std::string& name, const std::function<void(std::ostream&)>& write) {
   writeAtomically(path(name), write);
   written_.push_back(name);
 }

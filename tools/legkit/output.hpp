@@ -111,7 +111,9 @@ ProgramResult runProgram(const std::vector<std::string>& argv);
 
 // Whether plot()'s answer is a failure (the script ran and failed: exit code 2, an output not
 // written), not plots left undrawn because python3 or matplotlib is missing (said, exit 0).
-inline bool plotFailed(const std::string& answer) { return answer.rfind("plots FAILED", 0) == 0; }
+inline bool plotFailed(const std::string& answer) {
+  return answer.rfind("plots FAILED", 0) == 0;
+}
 
 // Draws a command's figures with one of the kit's plot scripts (tools/plots/<script>) and says in
 // one line what came of it: empty when the figures were drawn, else what went wrong (the last

@@ -342,7 +342,8 @@ RunCommand::RunCommand(CLI::App& app)
   c.add_option("--seed", seed_, "Random seed of the simulation")->capture_default_str();
   // Not CLI::ExistingFile: a log that cannot be read is an input error (exit 2), whatever the
   // reason, with the reader's own message.
-  CLI::Option* log = c.add_option("--log", log_, "Run on this recorded log (CSV, chapters/57.0) instead");
+  CLI::Option* log =
+      c.add_option("--log", log_, "Run on this recorded log (CSV, chapters/57.0) instead");
   // A recorded log shipped with the kit: its log and its settings file (a --config given as well
   // replaces the settings).
   c.add_option("--dataset", dataset_,
@@ -382,10 +383,12 @@ RunCommand::RunCommand(CLI::App& app)
                  "Stance feet at the foot sphere's centre, not at the ground point it touched (the "
                  "analytic scenarios' feet do not roll: always off there)");
   settle_option_ =
-      c.add_option("--settle", settle_,
-                   "Touchdown settling time [s]: a foot just put down is left out of the filters "
-                   "for this long (default " +
-                       number(kDefaultSettle) + "; 0 on the analytic scenarios; 0: off; 1 s at most, as in the settings file)")
+      c.add_option(
+           "--settle", settle_,
+           "Touchdown settling time [s]: a foot just put down is left out of the filters "
+           "for this long (default " +
+               number(kDefaultSettle) +
+               "; 0 on the analytic scenarios; 0: off; 1 s at most, as in the settings file)")
           ->check(finiteRange(0.0, 1.0));
   // Not CLI::ExistingFile: a file that cannot be read is an input error (exit 2).
   c.add_option("--config", config_,
@@ -559,9 +562,8 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
           eval::compare(log, r.run.trajectory, {kRpeDistances.begin(), kRpeDistances.end()});
     }
     r.contact_scores = contactScores(log, r.run);
-    folder.write("estimate_" + r.run.name + ".csv", [&](std::ostream& f) {
-      writeEstimates(f, r.run, estimate_rate_, logged_stamps);
-    });
+    folder.write("estimate_" + r.run.name + ".csv",
+                 [&](std::ostream& f) { writeEstimates(f, r.run, estimate_rate_, logged_stamps); });
     if (tum_) {
       folder.write("estimate_" + r.run.name + ".tum", [&](std::ostream& f) {
         writeTum(f, r.run.trajectory, estimateRows(r.run.trajectory, estimate_rate_),

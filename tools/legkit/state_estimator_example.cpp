@@ -45,7 +45,7 @@ struct Options {
   std::optional<std::string> estimator;  // unset: the settings' first estimator
   std::optional<std::string> contact;    // unset: the settings' detector
   std::optional<double> settle;          // unset: the settings' settling
-  double init_duration = -1.0;  // [s] still window; 0: off; < 0: the settings' default
+  double init_duration = -1.0;           // [s] still window; 0: off; < 0: the settings' default
   // [s] without a still window before the manager gives up and starts from the last samples' tilt
   // (the settings' 10 s would take a whole simulated 10 s log; 0.8 s is within the simulated
   // scenarios' 1 s stand).
@@ -73,12 +73,14 @@ int run(const Options& o) {
   const int generic = log.layout.num_joints;
   if (!log.layout.joints && generic == 0) {
     throw std::invalid_argument(
-        o.log_path + ": the manager takes joints (the quadruped's q_, dq_ or generic joint<k>_q, "
-                     "joint<k>_dq with the settings' robot), and this log has foot columns only");
+        o.log_path +
+        ": the manager takes joints (the quadruped's q_, dq_ or generic joint<k>_q, "
+        "joint<k>_dq with the settings' robot), and this log has foot columns only");
   }
   if (generic > 0 && settings.robot.model.empty()) {
-    throw std::invalid_argument(o.log_path + ": generic joint columns (joint<k>_q) need the "
-                                             "robot's model: --config with a robot: section");
+    throw std::invalid_argument(o.log_path +
+                                ": generic joint columns (joint<k>_q) need the "
+                                "robot's model: --config with a robot: section");
   }
   checkTimeBase(log, std::nullopt, "legkit run --max-gap");
   const ConditioningReport conditioning = condition(log, settings.conditioning);
