@@ -383,6 +383,35 @@ TEST_CASE("cli: physics options out of range are usage errors naming the option"
   }
 }
 
+TEST_CASE("cli: numeric options refuse NaN, inf and absurd values by name", "[cli]") {
+  // CLI11's own range checks let NaN through; these once ran on (--max-gap nan: exit 0), fell
+  // back to a default (study --runs 0, --duration -1) or failed naming a function, not the option.
+  const Folder dir("cli_numeric_options");
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"run", "--max-gap", "nan"}, "--max-gap"},
+      {{"run", "--max-gap", "-1"}, "--max-gap"},
+      {{"run", "--duration", "nan"}, "--duration"},
+      {{"run", "--duration", "-1"}, "--duration"},
+      {{"run", "--duration", "1e308"}, "--duration"},
+      {{"study", "consistency", "--runs", "0"}, "--runs"},
+      {{"study", "consistency", "--duration", "nan"}, "--duration"},
+      {{"study", "consistency", "--duration", "0"}, "--duration"},
+      {{"allan", "--simulate", "nan"}, "--simulate"},
+      {{"allan", "--simulate", "1e308"}, "--simulate"},
+      {{"allan", "--simulate", "10", "--rate", "inf"}, "--rate"},
+      {{"allan", "--simulate", "10", "--ratio", "nan"}, "--ratio"},
+  };
+  for (const auto& [arguments, option] : cases) {
+    std::vector<std::string> command = arguments;
+    command.insert(command.end(), {"--out", "out"});
+    const Result r = runLegkit(dir.path, command);
+    INFO(r.output);
+    CHECK(r.status == 1);
+    CHECK_THAT(r.output, Catch::Matchers::Contains(option));
+    CHECK_FALSE(fs::exists(dir.path / "out"));
+  }
+}
+
 TEST_CASE("cli: a robot that falls is a failed run with the time and the reason",
           "[cli][physics]") {
   const Folder dir("cli_fall");

@@ -9,6 +9,7 @@
 
 #include "model/imu_model.hpp"
 #include "output.hpp"
+#include "validators.hpp"
 
 namespace legkit::tools {
 namespace {
@@ -90,10 +91,10 @@ AllanCommand::AllanCommand(CLI::App& app)
   CLI::Option* simulate =
       c.add_option("--simulate", simulate_,
                    "Instead of a file: this many seconds of the kit's Go2 IMU model at rest")
-          ->check(CLI::PositiveNumber);
+          ->check(finiteRange(1e-3, 86400.0));
   file->excludes(simulate);
   c.add_option("--rate", rate_, "Sample rate of --simulate [Hz]")
-      ->check(CLI::PositiveNumber)
+      ->check(finiteRange(1.0, 1e4))
       ->capture_default_str();
   c.add_option("--seed", seed_, "Random seed of --simulate")->capture_default_str();
   c.add_option("--out", out_dir_,
@@ -101,11 +102,11 @@ AllanCommand::AllanCommand(CLI::App& app)
   c.add_option("--ratio", options_.ratio,
                "Of successive averaging factors m: 2 octaves 1, 2, 4, ...; 1.2589 about ten per "
                "decade (three times the work)")
-      ->check(CLI::Range(1.01, 10.0))
+      ->check(finiteRange(1.01, 10.0))
       ->capture_default_str();
   c.add_option("--slope-tolerance", options_.slope_tolerance,
                "A point belongs to the -1/2 or +1/2 line when its local slope is this close")
-      ->check(CLI::Range(0.01, 0.5))
+      ->check(finiteRange(0.01, 0.5))
       ->capture_default_str();
   c.add_flag("!--no-plots", plots_, "Do not draw allan.png");
 }

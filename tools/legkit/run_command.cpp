@@ -338,7 +338,8 @@ RunCommand::RunCommand(CLI::App& app)
       ->capture_default_str();
   duration_option_ = c.add_option("--duration", duration_,
                                   "Simulated time [s] (default 60; a physics scenario's own "
-                                  "length, e.g. 10 s for physics-stand)");
+                                  "length, e.g. 10 s for physics-stand)")
+                         ->check(finiteRange(1e-3, 3600.0));
   c.add_option("--seed", seed_, "Random seed of the simulation")->capture_default_str();
   // Not CLI::ExistingFile: a log that cannot be read is an input error (exit 2), whatever the
   // reason, with the reader's own message.
@@ -357,7 +358,7 @@ RunCommand::RunCommand(CLI::App& app)
       });
   c.add_option("--max-gap", max_gap_,
                "Longest step allowed between samples of --log [s] (default 10 median periods)")
-      ->check(CLI::PositiveNumber);
+      ->check(finiteRange(1e-6, 3600.0));
   c.add_option("--out", out_dir_, "Output folder (default legkit-out/<scenario>-seed<seed>)");
   c.add_option_function<std::string>(
        "--estimate-rate",

@@ -213,6 +213,13 @@ int run(const Options& o) {
   const Health& h = manager.output().health;
   std::cout << "health: " << h.total() << " faults\n";
   if (!o.out.empty()) std::cout << "states written to " << o.out << "\n";
+  // As legkit run: a filter that had to recover is a failed run (exit 3), rejected inputs alone
+  // are not.
+  if (!h.healthy()) {
+    std::cout << "the filter had to recover " << h[Fault::kStateUnhealthy]
+              << " time(s): its state is not to be trusted\n";
+    return 3;
+  }
   return 0;
 }
 

@@ -21,6 +21,7 @@
 #include "output.hpp"
 #include "study_filters.hpp"
 #include "study_fusion.hpp"
+#include "validators.hpp"
 
 namespace legkit::tools {
 namespace {
@@ -60,8 +61,12 @@ StudyCommand::StudyCommand(CLI::App& app)
   sweep_ = command_->add_subcommand(
       "sweep", "Linear KF noise parameters over decades: bias-variance trade-off (ex. 57.4.2)");
   for (CLI::App* c : {consistency_, convergence_, sweep_}) {
-    c->add_option("--runs", runs_, "Monte Carlo runs (per setting); default: the study's own");
-    c->add_option("--duration", duration_, "Simulated time per run [s]; default: the study's own");
+    // Unset they stay 0, the study's own; given, each is checked (0, -1 or NaN once fell back to
+    // the default silently).
+    c->add_option("--runs", runs_, "Monte Carlo runs (per setting); default: the study's own")
+        ->check(CLI::Range(1, 10000));
+    c->add_option("--duration", duration_, "Simulated time per run [s]; default: the study's own")
+        ->check(finiteRange(1e-3, 3600.0));
     c->add_option("--seed", seed_, "Seed of the first run (run j uses seed + j)")
         ->capture_default_str();
     c->add_option("--threads", threads_, "Worker threads (0: every core)")->capture_default_str();

@@ -24,6 +24,7 @@
 #include "eval/runner.hpp"
 #include "output.hpp"
 #include "sim/physics_simulator.hpp"
+#include "validators.hpp"
 
 namespace legkit::tools {
 namespace {
@@ -202,7 +203,7 @@ CLI::App* addStudyFusion(CLI::App& study) {
       "Proprioception alone against exteroceptive fusion on a long physics trot around a circle "
       "with simulated SLAM poses (section 57.8)");
   c->add_option("--duration", "Simulated time [s] (default 330: about 160 m; --quick: 30)")
-      ->check(CLI::Range(5.0, 3600.0));
+      ->check(finiteRange(5.0, 3600.0));
   c->add_option("--seed", "Seed of the physics run and of the poses (default 1)");
   c->add_option("--out", "Output folder (default legkit-out/study-fusion)");
   c->add_flag("--quick", "A 30 s run (the test's)");
