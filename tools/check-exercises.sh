@@ -2,7 +2,9 @@
 # CI check that the exercise tests are not vacuous and that their output stays readable: built
 # against the untouched stubs (the test_<id>_stub programs, in the README's tree build/, or
 # $LEGKIT_BUILD), every test case of every exercise must fail, each with exactly one failure.
-# (Against the solutions they run in the normal ctest.)
+# The Python variants likewise: pytest over tests/exercises/python/test_<id>.py against the
+# untouched python/exercise.py must report every test case failed (and none passed or in error).
+# (Against the solutions both run in the normal ctest.)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="${LEGKIT_BUILD:-build}"
@@ -23,6 +25,27 @@ for t in $targets; do
     echo "ok   $t: all $total test cases fail against the stub, one failure each"
   else
     echo "FAIL $t: expected all $total test cases to fail against the stub with one failure each, got: ${summary:-no summary}"
+    status=1
+  fi
+done
+
+if grep -q '^LEGKIT_PYTHON:BOOL=OFF$' "$build/CMakeCache.txt"; then
+  echo "FAIL the Python exercises: $build/ is configured without the Python package (LEGKIT_PYTHON=OFF)"
+  exit 1
+fi
+cmake --build "$build" -j"$(nproc)" --target legkit_python
+python=/usr/bin/python3  # Debian's, with NumPy and pytest
+[[ -x "$python" ]] || python=python3
+for file in tests/exercises/python/test_*.py; do
+  pytest=(env PYTHONPATH="$build/python" "$python" -m pytest -q -p no:cacheprovider "$file")
+  total=$("${pytest[@]}" --collect-only | grep -c '::' || true)
+  summary=$("${pytest[@]}" 2>&1 | tail -n 1 || true)
+  # pytest's last line is "N failed in 0.31s" only when no test case passed or had an error.
+  if [[ "$summary" =~ ^([0-9]+)\ failed\ in\  ]] && [[ "${BASH_REMATCH[1]}" == "$total" ]] &&
+    ((total > 0)); then
+    echo "ok   $file: all $total test cases fail against the stub"
+  else
+    echo "FAIL $file: expected all $total test cases to fail against the stub, got: ${summary:-no summary}"
     status=1
   fi
 done

@@ -15,6 +15,11 @@ Eigen::Vector3d raw(const ContactFeatures& x) {
 
 constexpr const char* kFeatureName[3] = {"force", "foot_speed", "phase"};
 
+// log(1 + e^z) without overflow.
+double softplus(double z) {
+  return z > 0.0 ? z + std::log1p(std::exp(-z)) : std::log1p(std::exp(z));
+}
+
 }  // namespace
 
 LogisticModel trainLogistic(const std::vector<ContactFeatures>& samples,
@@ -65,14 +70,29 @@ LogisticModel trainLogistic(const std::vector<ContactFeatures>& samples,
   Eigen::Vector4d w = Eigen::Vector4d::Zero();
   w[0] = std::log(static_cast<double>(positives) / (n - static_cast<double>(positives)));
   Eigen::Vector4d penalty(0.0, options.l2, options.l2, options.l2);
+  // The scaled sample k, (1, x_scaled), inactive features 0.
+  const auto features = [&](std::size_t k) {
+    const Eigen::Vector3d x = raw(samples[k]);
+    Eigen::Vector4d phi(1.0, 0.0, 0.0, 0.0);
+    for (int i = 0; i < 3; ++i)
+      if (active[i]) phi[i + 1] = (x[i] - model.mean[i]) / model.scale[i];
+    return phi;
+  };
+  // L(w): sum_n softplus(z_n) - y_n z_n, plus the penalty.
+  const auto loss = [&](const Eigen::Vector4d& v) {
+    double l = 0.5 * penalty.dot(v.cwiseAbs2());
+    for (std::size_t k = 0; k < samples.size(); ++k) {
+      const double z = v.dot(features(k));
+      l += softplus(z) - (labels[k] ? z : 0.0);
+    }
+    return l;
+  };
+  double largest = 0.0;  // the last step's largest component
   for (int it = 0; it < options.max_iterations; ++it) {
     Eigen::Matrix4d H = Eigen::Matrix4d::Zero();
     Eigen::Vector4d g = Eigen::Vector4d::Zero();
     for (std::size_t k = 0; k < samples.size(); ++k) {
-      const Eigen::Vector3d x = raw(samples[k]);
-      Eigen::Vector4d phi(1.0, 0.0, 0.0, 0.0);
-      for (int i = 0; i < 3; ++i)
-        if (active[i]) phi[i + 1] = (x[i] - model.mean[i]) / model.scale[i];
+      const Eigen::Vector4d phi = features(k);
       const double p = 1.0 / (1.0 + std::exp(-w.dot(phi)));
       g += (p - (labels[k] ? 1.0 : 0.0)) * phi;
       H.selfadjointView<Eigen::Lower>().rankUpdate(phi, std::max(p * (1.0 - p), 1e-12));
@@ -87,14 +107,22 @@ LogisticModel trainLogistic(const std::vector<ContactFeatures>& samples,
         H(i + 1, i + 1) = 1.0;
         g[i + 1] = 0.0;
       }
-    const Eigen::Vector4d step = H.ldlt().solve(g);
+    Eigen::Vector4d step = H.ldlt().solve(g);
     if (!step.allFinite())
       throw std::invalid_argument("trainLogistic: the Newton step is not finite");
+    // Armijo backtracking: L(w - t step) <= L(w) - c t g.step (g.step > 0: H is SPD).
+    const double l0 = loss(w), slope = g.dot(step);
+    while (loss(w - step) > l0 - 1e-4 * slope && step.cwiseAbs().maxCoeff() >= options.tolerance)
+      step *= 0.5;
     w -= step;
-    if (step.cwiseAbs().maxCoeff() < options.tolerance) break;
+    largest = step.cwiseAbs().maxCoeff();
+    if (largest < options.tolerance) {
+      model.w = w;
+      return model;
+    }
   }
-  model.w = w;
-  return model;
+  throw std::runtime_error(
+      "trainLogistic: no convergence in " + std::to_string(options.max_iterations) +
+      " Newton steps (the last step's largest component " + std::to_string(largest) + ")");
 }
-
 }  // namespace legkit::contact

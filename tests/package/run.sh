@@ -4,13 +4,16 @@
 # that prefix: find_package(legkit 0.2 REQUIRED COMPONENTS estimation), the estimator manager from
 # the kit's settings file on a log that `legkit sim` writes. Then checks the package's refusals: a
 # component it does not have, a version it is not compatible with.
-#   usage: run.sh <legkit-source-dir> <legkit-build-dir> <work-dir> <legkit-exe> [cmake]
+# With a Python interpreter given, also imports the installed Python package from the prefix and
+# runs an estimator on a simulated log with it.
+#   usage: run.sh <legkit-source-dir> <legkit-build-dir> <work-dir> <legkit-exe> [cmake [python]]
 set -eu
 src=$1
 build=$2
 work=$3
 legkit=$4
 cmake=${5:-cmake}
+python=${6:-}
 prefix="$work/prefix"
 
 rm -rf "$work"
@@ -40,6 +43,17 @@ grep -q '^  duration: 0.5$' "$work/settings.yaml" && grep -q '^  max_wait: 0.9$'
   { echo "FAIL: config/legkit.yaml's initialisation keys changed: update this script" >&2; exit 1; }
 "$legkit" sim --scenario physics-trot --duration 4 --out "$work/trot.csv" >/dev/null
 "$work/build-app/estimate" "$work/settings.yaml" "$work/trot.csv"
+
+if [ -n "$python" ]; then
+  echo "== the Python package from the prefix"
+  PYTHONPATH="$prefix/lib/python3/dist-packages" "$python" -c '
+import sys, legkit
+assert legkit.__file__.startswith(sys.argv[1]), legkit.__file__
+log = legkit.sim.simulate("trot", duration=1.0)
+run = legkit.estimators.run(log, legkit.sim.settings_for("trot"), estimators=["invariant-ekf"])
+print("legkit", legkit.__version__, "from", legkit.__file__, "ran", len(run["invariant-ekf"]["t"]), "rows")
+' "$prefix"
+fi
 
 echo "== refusals: an unknown component, an incompatible version"
 refuse() {  # refuse <name> <find_package arguments> <expected message>

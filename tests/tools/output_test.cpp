@@ -96,7 +96,7 @@ TEST_CASE("output: a folder's previous run removes only what its manifest listed
   for (const char* gone :
        {"estimate_a.csv", "estimate_b.csv", "estimate_a.csv.tmp", "summary.json"})
     CHECK_FALSE(fs::exists(out / gone));
-  for (const fs::path kept :
+  for (const fs::path& kept :
        {out / "estimate_mine.csv", out / "figure.png", dir.path / "outside.csv"})
     CHECK(slurp(kept) == "mine\n");
   // A figure drawn after the folder was opened is the run's; the user's older one is not.
