@@ -358,28 +358,28 @@ const std::vector<Node>& schema() {
               {integer(
                   "iterations", [](S& s) -> int& { return s.tsif.iterations; }, 1, 2,
                   "Gauss-Newton iterations per step")}),
-      section("frontend", "The leg measurements' noise (the front end: joints to feet)",
-              {number(
-                   "encoder_angle_sigma",
-                   [](S& s) -> double& { return s.frontend.encoder_angle_sigma; }, 0, 0.1,
-                   "joint encoder noise [rad]"),
-               number(
-                   "foot_point_sigma", [](S& s) -> double& { return s.frontend.foot_point_sigma; },
-                   0, 0.1, "the contact point on a round foot [m]"),
-               choice<StampHandling>(
-                   "timestamps", [](S& s) -> StampHandling& { return s.conditioning.stamps; },
-                   {{StampHandling::kAuto, "auto"},
-                    {StampHandling::kLogged, "logged"},
-                    {StampHandling::kSmoothed, "smoothed"}},
-                   "a recorded log's stamps: smoothed (a line fitted over 21 rows), logged, or "
-                   "auto: smoothed when the row interval jitters by more than 10 %"),
-               choice<JointVelocitySource>(
-                   "joint_velocities",
-                   [](S& s) -> JointVelocitySource& { return s.conditioning.joint_velocities; },
-                   {{JointVelocitySource::kLogged, "logged"},
-                    {JointVelocitySource::kAngles, "angles"}},
-                   "a recorded log's joint velocities: as logged, or the angles' backward "
-                   "difference")}),
+      section(
+          "frontend", "The leg measurements' noise (the front end: joints to feet)",
+          {number(
+               "encoder_angle_sigma",
+               [](S& s) -> double& { return s.frontend.encoder_angle_sigma; }, 0, 0.1,
+               "joint encoder noise [rad]"),
+           number(
+               "foot_point_sigma", [](S& s) -> double& { return s.frontend.foot_point_sigma; }, 0,
+               0.1, "the contact point on a round foot [m]"),
+           choice<StampHandling>(
+               "timestamps", [](S& s) -> StampHandling& { return s.conditioning.stamps; },
+               {{StampHandling::kAuto, "auto"},
+                {StampHandling::kLogged, "logged"},
+                {StampHandling::kSmoothed, "smoothed"}},
+               "a recorded log's stamps: smoothed (a line fitted over 21 rows), logged, or "
+               "auto: smoothed when the row interval jitters by more than 10 %"),
+           choice<JointVelocitySource>(
+               "joint_velocities",
+               [](S& s) -> JointVelocitySource& { return s.conditioning.joint_velocities; },
+               {{JointVelocitySource::kLogged, "logged"}, {JointVelocitySource::kAngles, "angles"}},
+               "a recorded log's joint velocities: as logged, or the angles' backward "
+               "difference")}),
       section(
           "robot", "The robot whose legs the log's joints describe",
           {text(
@@ -569,8 +569,7 @@ void writeNodes(const std::vector<Node>& nodes, const Settings& s, int indent, s
   }
 }
 
-Settings readSettings(const io::YamlValue& root) {
-  Settings s = defaultSettings();
+Settings readSettings(const io::YamlValue& root, Settings s = defaultSettings()) {
   if (!root.isNull() && !root.isMap()) root.fail("expected a map of sections at the top level");
   readNodes(schema(), root, s);
   return s;
@@ -598,8 +597,8 @@ Settings loadSettings(const std::string& path) {
   return s;
 }
 
-Settings settingsFromYaml(const std::string& text, const std::string& name) {
-  Settings s = readSettings(io::YamlValue::parse(text, name));
+Settings settingsFromYaml(const std::string& text, const std::string& name, const Settings& base) {
+  Settings s = readSettings(io::YamlValue::parse(text, name), base);
   s.source = name;
   return s;
 }

@@ -110,8 +110,10 @@ Settings defaultSettings();
 // relative to the file's folder. Throws io::ConfigError naming the
 // file, the line and the key for an unknown key, a wrong type or an out-of-range value.
 Settings loadSettings(const std::string& path);
-// The same for the YAML document in `text`, called `name` in messages (and in Settings::source).
-Settings settingsFromYaml(const std::string& text, const std::string& name);
+// The same for the YAML document in `text`, called `name` in messages (and in Settings::source),
+// on top of `base`: the keys it gives replace base's, the others keep base's values.
+Settings settingsFromYaml(const std::string& text, const std::string& name,
+                          const Settings& base = defaultSettings());
 // The settings as YAML with a comment on every key; loadSettings() of it gives them back.
 std::string settingsYaml(const Settings& settings);
 // An estimator of estimatorNames() with its parameters from the settings: the IMU densities, the

@@ -10,9 +10,11 @@
 #include "estimation/estimators.hpp"
 #include "estimation/log_conditioning.hpp"
 #include "estimation/settings.hpp"
+#include "estimation/slip/slip_detector.hpp"
 #include "estimation/state_estimator.hpp"
 #include "eval/contact_training.hpp"
 #include "eval/runner.hpp"
+#include "io/yaml_reader.hpp"
 #include "model/mujoco_kinematics.hpp"
 #include "model/quadruped.hpp"
 
@@ -237,6 +239,8 @@ py::dict outputDict(const EstimatorOutput& o) {
 }  // namespace
 
 void bindEstimators(py::module_& m) {
+  // A settings file's error (io::ConfigError: file, line, key) is a ValueError.
+  py::register_exception<io::ConfigError>(m, "SettingsError", PyExc_ValueError);
   py::class_<EstimateSample>(m, "EstimateSample",
                              "The base state at time t (estimation/estimate.hpp): q the attitude "
                              "body to world as (w, x, y, z), v the world velocity [m/s], p the "
@@ -290,12 +294,23 @@ void bindEstimators(py::module_& m) {
       .def_property_readonly(
           "contact", [](const Settings& s) { return s.pipeline.contact; },
           "the contact source: a detector's name or 'truth'")
-      .def("yaml", &settingsYaml, "The settings as the YAML `legkit config --print` writes");
+      .def("yaml", &settingsYaml, "The settings as the YAML `legkit config --print` writes")
+      .def(
+          "updated",
+          [](const Settings& s, const std::string& text, const std::string& name) {
+            return settingsFromYaml(text, name, s);
+          },
+          py::arg("text"), py::arg("name") = "<yaml>",
+          "New settings: these with the keys of the YAML `text` replaced (the others kept), "
+          "e.g. s.updated('contact: {settle_time: 0}'); errors name `name`, the line and the key");
   m.def("default_settings", &defaultSettings, "The kit's defaults (config/legkit.yaml)");
   m.def("load_settings", &loadSettings, py::arg("path"),
         "Reads a settings file; ValueError naming the file, line and key for a bad one");
-  m.def("settings_from_yaml", &settingsFromYaml, py::arg("text"), py::arg("name") = "<yaml>",
-        "Settings from YAML text; `name` stands for the file in messages");
+  m.def(
+      "settings_from_yaml",
+      [](const std::string& text, const std::string& name) { return settingsFromYaml(text, name); },
+      py::arg("text"), py::arg("name") = "<yaml>",
+      "Settings from YAML text on the kit's defaults; `name` stands for the file in messages");
 
   py::class_<Estimator>(m, "Estimator",
                         "One estimator behind the kit's interface (estimation/estimator.hpp)")
@@ -371,6 +386,55 @@ void bindEstimators(py::module_& m) {
       .def_property_readonly("contact_source", &StateEstimator::contactSource)
       .def_property_readonly("num_joints", &StateEstimator::numJoints)
       .def_property_readonly("num_feet", &StateEstimator::numFeet);
+
+  py::class_<slip::SlipDetector>(
+      m, "SlipDetector",
+      "The slip check of 57.7 (estimation/slip/slip_detector.hpp): each stance foot's velocity "
+      "residual r_i = v_leg,i - v_hat against its covariance (d2_i = r^T S^-1 r > chi2_3(alpha) at "
+      "confirm_samples consecutive checks: slipping), the multi-foot outlier, and the all-feet "
+      "test of the legs' common velocity against the IMU")
+      .def(py::init([](double alpha, double foot_velocity_sigma, int confirm_samples) {
+             slip::SlipParams params;
+             params.alpha = alpha;
+             params.foot_velocity_sigma = foot_velocity_sigma;
+             params.confirm_samples = confirm_samples;
+             return slip::SlipDetector(params);
+           }),
+           py::arg("alpha") = slip::SlipParams{}.alpha,
+           py::arg("foot_velocity_sigma") = slip::SlipParams{}.foot_velocity_sigma,
+           py::arg("confirm_samples") = slip::SlipParams{}.confirm_samples,
+           "alpha the chi-square test level; foot_velocity_sigma the noise of a foot's velocity "
+           "relative to the body per axis [m/s]; confirm_samples the checks in a row")
+      .def("reset", &slip::SlipDetector::reset)
+      .def_property_readonly("threshold", &slip::SlipDetector::threshold, "chi2_3(alpha)")
+      .def(
+          "check",
+          [](slip::SlipDetector& d, double t, double dt, py::handle gyro, py::handle acc,
+             const std::vector<ContactMeasurement>& contacts, const EstimateSample& x, py::handle P,
+             bool has_attitude) {
+            const StepInput in = stepInput(t, dt, gyro, acc, contacts, std::nullopt);
+            const slip::SlipReport r =
+                P.is_none() ? d.check(in, x)
+                            : d.check(in, x, BaseCovariance{fixed<9, 9>(P, "P"), has_attitude});
+            py::list feet;
+            for (int k = 0; k < r.num_feet; ++k) {
+              const slip::FootSlip& f = r.feet[k];
+              feet.append(py::dict(py::arg("foot") = f.foot, py::arg("d2") = f.d2,
+                                   py::arg("exceeds") = f.exceeds, py::arg("slipping") = f.slipping,
+                                   py::arg("residual") = toArray(f.residual),
+                                   py::arg("v_leg") = toArray(f.v_leg)));
+            }
+            return py::dict(py::arg("feet") = feet, py::arg("all_slipping") = r.all_slipping,
+                            py::arg("outlier") = r.outlier,
+                            py::arg("imu_disagrees") = r.imu_disagrees,
+                            py::arg("common_d2") = r.common_d2);
+          },
+          py::arg("t"), py::arg("dt"), py::arg("gyro"), py::arg("acc"), py::arg("contacts"),
+          py::arg("x"), py::arg("P") = py::none(), py::arg("has_attitude") = true,
+          "One sample's check: the stance feet (those with v_body are checked) against the "
+          "estimate x of the previous step and its 9x9 covariance P (None: an estimator without "
+          "one). Returns {'feet': [{'foot', 'd2', 'exceeds', 'slipping', 'residual', 'v_leg'}], "
+          "'all_slipping', 'outlier' (-1: none), 'imu_disagrees', 'common_d2'}");
 
   m.def("names", &estimatorNames, "Every estimator, in the order of the chapter");
   m.def(

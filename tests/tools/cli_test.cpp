@@ -240,6 +240,26 @@ TEST_CASE("cli: a run whose filters had to recover exits 3 and says which", "[cl
              Catch::Matchers::Contains("\"exit_status\": 3"));
 }
 
+TEST_CASE("cli: a run whose estimator could not use its input is void: exit 3 with the counts",
+          "[cli]") {
+  const Folder dir("cli_void");
+  // A gyro range of 0.1 rad/s: the trot's turning rates are beyond it on most samples.
+  std::ofstream(dir.path / "narrow.yaml") << "estimators: [eskf]\nlimits:\n  gyro_max: 0.1\n";
+  Result r = runLegkit(dir.path, {"run", "--scenario", "trot", "--duration", "2", "--no-plots",
+                                  "--config", "narrow.yaml", "--out", "out"});
+  CHECK(r.status == 3);
+  CHECK_THAT(r.output, Catch::Matchers::Contains("VOID eskf: ") &&
+                           Catch::Matchers::Contains(" of 2000 samples' input rejected"));
+  CHECK_THAT(slurp(dir.path / "out" / "summary.json"),
+             Catch::Matchers::Contains("\"healthy\": false"));
+  // The kit's own limits on the same log reject nothing: exit 0.
+  std::ofstream(dir.path / "wide.yaml") << "estimators: [eskf]\n";
+  r = runLegkit(dir.path, {"run", "--scenario", "trot", "--duration", "2", "--no-plots", "--config",
+                           "wide.yaml", "--out", "out"});
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, !Catch::Matchers::Contains("VOID"));
+}
+
 namespace {
 
 // Data rows of a CSV file (lines that are neither comments nor its header).

@@ -49,7 +49,8 @@ int main(int argc, char** argv) {
   app.footer(
       "Exit codes: 0 done, every estimator healthy; 1 the command line was wrong; 2 the input\n"
       "could not be used or an output not written (nothing reported as done); 3 the run\n"
-      "finished but an estimator failed or had to recover (the table says which and where),\n"
+      "finished but an estimator failed, had to recover or could not use more than 5 % of its\n"
+      "input (the table says which and where),\n"
       "or the simulated robot fell or its simulation diverged (when and why are printed; the\n"
       "log ends there).");
 

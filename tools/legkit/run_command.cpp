@@ -292,6 +292,11 @@ void printRunTable(std::ostream& out, const std::vector<RunRow>& rows) {
   for (const RunRow& r : rows) {
     if (r.run.failed())
       out << "FAILED " << r.run.name << ": " << eval::describe(*r.run.failure) << '\n';
+    else if (eval::voided(r.run.health, r.run.trajectory.size()))
+      out << "VOID " << r.run.name << ": " << eval::rejectedInputs(r.run.health) << " of "
+          << r.run.trajectory.size() << " samples' input rejected (more than "
+          << number(100.0 * eval::kMaxRejectedShare) << " %): check the settings' limits and "
+          << "priors\n";
   }
   for (const RunRow& r : rows) {
     const std::string health = eval::describe(r.run.health);

@@ -21,6 +21,7 @@
 #include "estimation/settings.hpp"
 #include "estimation/state_estimator.hpp"
 #include "eval/metrics.hpp"
+#include "eval/runner.hpp"
 #include "io/log_reader.hpp"
 #include "validators.hpp"
 
@@ -60,8 +61,10 @@ int run(const Options& o) {
   if (!(o.mpc_latency >= 0.0)) throw std::invalid_argument("--mpc-latency must be >= 0");
   // Without a settings file: the invariant EKF on the Schmitt trigger, no settling (the options'
   // defaults before settings files); with one, its values unless an option is given.
-  Settings settings = o.config.empty() ? Settings{} : loadSettings(o.config);
-  if (o.config.empty()) {
+  Settings settings;
+  if (!o.config.empty()) {
+    settings = loadSettings(o.config);
+  } else {
     settings.estimators = {"invariant-ekf"};
     settings.pipeline.contact = "schmitt";
     settings.pipeline.settle_time = 0.0;
@@ -213,11 +216,17 @@ int run(const Options& o) {
   const Health& h = manager.output().health;
   std::cout << "health: " << h.total() << " faults\n";
   if (!o.out.empty()) std::cout << "states written to " << o.out << "\n";
-  // As legkit run: a filter that had to recover is a failed run (exit 3), rejected inputs alone
-  // are not.
+  // As legkit run: a filter that had to recover, or that could not use more than
+  // eval::kMaxRejectedShare of its input, is a failed run (exit 3).
   if (!h.healthy()) {
     std::cout << "the filter had to recover " << h[Fault::kStateUnhealthy]
               << " time(s): its state is not to be trusted\n";
+    return 3;
+  }
+  if (eval::voided(h, log.rows.size())) {
+    std::cout << eval::rejectedInputs(h) << " of " << log.rows.size()
+              << " samples' input rejected (more than " << 100.0 * eval::kMaxRejectedShare
+              << " %): check the settings' limits and priors\n";
     return 3;
   }
   return 0;
