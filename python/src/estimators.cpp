@@ -13,6 +13,7 @@
 #include "estimation/slip/slip_detector.hpp"
 #include "estimation/state_estimator.hpp"
 #include "eval/contact_training.hpp"
+#include "eval/log_run.hpp"
 #include "eval/runner.hpp"
 #include "io/yaml_reader.hpp"
 #include "model/mujoco_kinematics.hpp"
@@ -69,38 +70,6 @@ StepInput stepInput(double t, double dt, py::handle gyro, py::handle acc,
     in.has_force = true;
   }
   return in;
-}
-
-// A whole log through one estimator on the settings' contact pipeline, as `legkit run --log F
-// --config S` runs it (tools/legkit/run_command.cpp): the settings' front end (stamps, joint
-// velocities), noise, pipeline, detector thresholds, robot and IMU extrinsic.
-eval::RunResult runLog(const io::Log& recorded, const Settings& settings, const std::string& name,
-                       const contact::DetectorContext& context,
-                       const std::optional<EstimateSample>& x0) {
-  checkTimeBase(recorded, std::nullopt, "max_gap");
-  io::Log log = recorded;
-  condition(log, settings.conditioning);
-  PipelineOptions options = settings.pipeline;
-  options.limits = settings.limits;
-  if (options.contact == "truth" && !log.layout.contact) {
-    throw std::invalid_argument("contact 'truth': the log has no contact columns");
-  }
-  std::unique_ptr<model::LegKinematics> legs;
-  if (log.layout.num_joints > 0) {
-    legs = model::makeLegKinematics(settings.robot.model, settings.robot.base, settings.robot.feet,
-                                    settings.robot.joints);
-  }
-  const LogFrontend frontend =
-      legs ? LogFrontend(log.layout, *legs, settings.frontend, settings.imu_extrinsic)
-           : LogFrontend(log.layout, model::QuadrupedKinematics(), settings.frontend,
-                         settings.imu_extrinsic);
-  ContactPipeline pipeline(frontend, options, context);
-  const std::unique_ptr<Estimator> e = makeEstimator(name, settings);
-  eval::RunResult run = eval::runOnLog(*e, log, pipeline, x0 ? *x0 : eval::initialState(log));
-  // The log's own stamps, as `legkit run`'s estimate files keep them (the estimator ran on the
-  // conditioned ones): so that the estimate lines up with the log row for row.
-  for (std::size_t k = 0; k < run.trajectory.size(); ++k) run.trajectory[k].t = recorded.rows[k].t;
-  return run;
 }
 
 // A run's arrays: t, q (N, 4: w x y z), p, v (N, 3), sigma (N, 9) and nees (N) for a filter,
@@ -468,7 +437,7 @@ void bindEstimators(py::module_& m) {
             context.logistic = eval::trainContactModel(training_seed);
           }
           for (const std::string& name : which) {
-            runs.push_back(runLog(log, settings, name, context, x0));
+            runs.push_back(eval::runWithSettings(log, settings, name, context, x0));
           }
         }
         py::dict out;

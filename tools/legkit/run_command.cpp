@@ -24,12 +24,12 @@
 #include "estimation/slip/slip_guard.hpp"
 #include "eval/consistency.hpp"
 #include "eval/contact_training.hpp"
+#include "eval/log_run.hpp"
 #include "eval/metrics.hpp"
 #include "eval/monte_carlo.hpp"
 #include "eval/runner.hpp"
 #include "io/log_reader.hpp"
 #include "io/log_writer.hpp"
-#include "model/mujoco_kinematics.hpp"
 #include "output.hpp"
 #include "scenarios.hpp"
 #include "sim/physics_simulator.hpp"
@@ -516,22 +516,17 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   // The front end: the settings' IMU extrinsic, and for a log of generic joints the legs of the
   // settings' robot section (the analytic Go2 without a model file).
   const model::ImuExtrinsic extrinsic = settings ? settings->imu_extrinsic : model::ImuExtrinsic{};
-  std::unique_ptr<model::LegKinematics> legs;
   if (settings && !settings->robot.model.empty() && log.layout.num_joints == 0) {
     throw InputError(config_ + ": robot.model: " + source +
                      " has no generic joint columns (joint<k>_q) for the robot's legs");
   }
-  if (log.layout.num_joints > 0) {
-    const RobotSettings robot = settings ? settings->robot : RobotSettings{};
-    try {
-      legs = model::makeLegKinematics(robot.model, robot.base, robot.feet, robot.joints);
-    } catch (const std::runtime_error& e) {
-      throw InputError((settings ? config_ + ": robot.model: " : std::string()) + e.what());
-    }
+  std::unique_ptr<model::LegKinematics> legs;
+  try {
+    legs = eval::logLegs(log.layout, settings ? settings->robot : RobotSettings{});
+  } catch (const std::runtime_error& e) {
+    throw InputError((settings ? config_ + ": robot.model: " : std::string()) + e.what());
   }
-  const LogFrontend frontend =
-      legs ? LogFrontend(log.layout, *legs, noise, extrinsic)
-           : LogFrontend(log.layout, model::QuadrupedKinematics(), noise, extrinsic);
+  const LogFrontend frontend = eval::logFrontend(log.layout, legs.get(), noise, extrinsic);
   std::optional<ContactPipeline> made;
   try {
     made.emplace(frontend, pipeline_options, context);

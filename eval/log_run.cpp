@@ -1,0 +1,46 @@
+#include "eval/log_run.hpp"
+
+#include <stdexcept>
+
+#include "estimation/contact_pipeline.hpp"
+#include "estimation/estimators.hpp"
+#include "estimation/log_conditioning.hpp"
+#include "model/mujoco_kinematics.hpp"
+#include "model/quadruped.hpp"
+
+namespace legkit::eval {
+
+std::unique_ptr<model::LegKinematics> logLegs(const io::LogLayout& layout,
+                                              const RobotSettings& robot) {
+  if (layout.num_joints == 0) return nullptr;
+  return model::makeLegKinematics(robot.model, robot.base, robot.feet, robot.joints);
+}
+
+LogFrontend logFrontend(const io::LogLayout& layout, const model::LegKinematics* legs,
+                        const FrontendNoise& noise, const model::ImuExtrinsic& extrinsic) {
+  return legs ? LogFrontend(layout, *legs, noise, extrinsic)
+              : LogFrontend(layout, model::QuadrupedKinematics(), noise, extrinsic);
+}
+
+RunResult runWithSettings(const io::Log& recorded, const Settings& settings,
+                          const std::string& estimator, const contact::DetectorContext& context,
+                          const std::optional<EstimateSample>& x0) {
+  checkTimeBase(recorded, std::nullopt, "max_gap");
+  io::Log log = recorded;
+  condition(log, settings.conditioning);
+  PipelineOptions options = settings.pipeline;
+  options.limits = settings.limits;
+  if (options.contact == "truth" && !log.layout.contact) {
+    throw std::invalid_argument("contact 'truth': the log has no contact columns");
+  }
+  const std::unique_ptr<model::LegKinematics> legs = logLegs(log.layout, settings.robot);
+  const LogFrontend frontend =
+      logFrontend(log.layout, legs.get(), settings.frontend, settings.imu_extrinsic);
+  ContactPipeline pipeline(frontend, options, context);
+  const std::unique_ptr<Estimator> e = makeEstimator(estimator, settings);
+  RunResult run = runOnLog(*e, log, pipeline, x0 ? *x0 : initialState(log));
+  for (std::size_t k = 0; k < run.trajectory.size(); ++k) run.trajectory[k].t = recorded.rows[k].t;
+  return run;
+}
+
+}  // namespace legkit::eval

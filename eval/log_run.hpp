@@ -1,0 +1,40 @@
+#pragma once
+// A recorded log through the settings' front end and contact pipeline: what `legkit run --log F
+// --config S` (tools/legkit/run_command.cpp) and legkit.estimators.run from Python share, so that
+// the two cannot drift apart.
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "estimation/contact/detectors.hpp"
+#include "estimation/estimate.hpp"
+#include "estimation/log_frontend.hpp"
+#include "estimation/settings.hpp"
+#include "eval/runner.hpp"
+#include "io/log.hpp"
+#include "model/imu_extrinsic.hpp"
+#include "model/leg_kinematics.hpp"
+
+namespace legkit::eval {
+
+// The legs of a log's generic joints (layout.num_joints > 0): the robot's model through
+// model::makeLegKinematics, whose std::runtime_error names the file. Null for a log of the
+// built-in quadruped's joints or of foot columns, which need no model.
+std::unique_ptr<model::LegKinematics> logLegs(const io::LogLayout& layout,
+                                              const RobotSettings& robot);
+
+// The front end of a log on `legs` (logLegs; null: the built-in quadruped's kinematics), which
+// must outlive it.
+LogFrontend logFrontend(const io::LogLayout& layout, const model::LegKinematics* legs,
+                        const FrontendNoise& noise, const model::ImuExtrinsic& extrinsic);
+
+// One estimator over a whole recorded log as `legkit run --log F --config S` runs it: the time
+// base checked (std::invalid_argument naming the row), the settings' front end (stamps, joint
+// velocities), noise, limits, contact pipeline on `context`, robot and IMU extrinsic, from x0
+// (default: initialState). The trajectory keeps the log's own stamps, as the estimate files do
+// (the estimator ran on the conditioned ones), so that it lines up with the log row for row.
+RunResult runWithSettings(const io::Log& recorded, const Settings& settings,
+                          const std::string& estimator, const contact::DetectorContext& context,
+                          const std::optional<EstimateSample>& x0 = std::nullopt);
+
+}  // namespace legkit::eval
