@@ -124,19 +124,18 @@ const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const E
     silent_ = true;
   }
   // The slip check sees every foot the source put down, settling or not (a slide at touchdown
-  // counts towards its confirmation and its all-feet test); the filter gets the settled ones.
+  // counts towards its confirmation and its all-feet test); the filter gets the settling ones at
+  // p_c = 0: a swing foot's random walk and a measurement covariance that says "ignore it".
   const StepInput& guarded = guard_.apply(input_, x, P, reacted_, &slip_report_);
   bool any_settling = false;
-  for (const ContactMeasurement& c : guarded.stance())
-    any_settling = any_settling || settling_[c.foot];
+  for (const ContactMeasurement& c : guarded.stance()) any_settling |= settling_[c.foot];
   if (!any_settling) return guarded;
   settled_ = guarded;
-  settled_.num_contacts = 0;
-  for (int k = 0; k < guarded.num_contacts; ++k) {
-    if (settling_[guarded.contacts[k].foot]) continue;
-    settled_.contacts[settled_.num_contacts] = guarded.contacts[k];
-    settled_.normal_force[settled_.num_contacts] = guarded.normal_force[k];
-    ++settled_.num_contacts;
+  for (int k = 0; k < settled_.num_contacts; ++k) {
+    ContactMeasurement& c = settled_.contacts[k];
+    if (!settling_[c.foot]) continue;
+    c.cov = contact::softMeasurementCov(c.cov, 0.0, options_.soft);
+    c.probability = 0.0;
   }
   return settled_;
 }

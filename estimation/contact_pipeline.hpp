@@ -8,8 +8,9 @@
 //   -> SlipGuard (57.7: each stance foot's velocity residual against the estimate and its
 //      covariance; the reaction chosen: none, inflate R, drop the foot, IMU only while all slip),
 //      on every foot the source put down
-//   -> touchdown settling (a foot just put down is left out of the filter's input for
-//      settle_time, settleWeight; the slip check above has seen it)
+//   -> touchdown settling (a foot just put down reaches the filter at p_c = 0 for settle_time,
+//      settleWeight: a swing foot to the filters that weigh feet by p_c; the slip check above
+//      has seen it whole)
 //   -> the caller hands it to the estimator.
 // The detector judges with the last estimate and the estimator uses the detection in this step
 // (57.6's chicken-and-egg rule). The pipeline also watches for silence: no foot in stance for
@@ -40,18 +41,27 @@ namespace legkit {
 // moves about 7.5 mm along the ground and 7.4 mm down in its first 20 ms of contact (the log's
 // gt_vf_ foot velocities integrated over 20 ms after each rising gt_contact_, 470 touchdowns of
 // the 60 s trot, seed 1), so a leg measurement taken then pins the filter to a point that is
-// still moving. Measured on the 60 s physics trot, seed 1 (`legkit run --contact truth --settle
-// 0|0.05|0.08|0.12`): ESKF position RMSE 0.52 -> 0.24 -> 0.19 -> 0.22 m, ANEES 21.5 -> 6.4 ->
-// 4.1 -> 4.5; the same on the fallback chain. Holding p_c at 0 and ramping it from 0 to 1 over
-// the same time give the p_c-weighted filters the same figures; the filters that take a foot
-// whole (leg odometry, linear KF) do better with the hold (0.24-0.25 m against 0.26-0.37 m at 80
-// ms, measured with a ramp in the hold's place). Settling acts on the filter's input only: the
-// slip check still sees a foot from its touchdown, so a slide at touchdown is found as without
-// settling (exercise 57.X, seed 5790: the first slide on the ice, 3.754 s, found at 3.756 s with
-// and without it). The library's default stays off because settling also changes what that
-// exercise teaches: with it the invariant EKF's velocity RMS error on the ice is 0.022 m/s with
-// no slip reaction as with dropping the foot (0.050 and 0.027 m/s without settling), and the naive
-// controller on the estimate falls at 7.58 s instead of 5.05 s (truth: 9.22 s); test_ex57_X.
+// still moving. A settling foot is handed over at p_c = 0, not removed: the filters that weigh
+// feet by p_c (ESKF, InEKF, TSIF, linear KF) let it wander as a swing foot, exactly as if it
+// were left out (the same figures to the last digit); leg odometry, which takes a foot whole, is
+// not settled. Why the split: removing the foot tripled leg odometry where a real robot's feet
+// land softly (a Go1 trot measured outside the kit: 1.55 m with 80 ms against 0.45 m without,
+// flags from its log), and on the kit's own physics it did the same on the slower gaits (truth
+// contacts, `legkit run --scenario S --contact truth --settle 0|0.08`: physics-turn 0.025 ->
+// 0.187 m, physics-walk 0.065 -> 0.227 m; better only on the trots, physics-trot 0.444 -> 0.319,
+// physics-real 0.409 -> 0.098). The p_c-weighted filters gain on every physics scenario (the
+// fallback chain, stance density 0.01, settle 0 -> 0.08: ESKF physics-trot 0.594 -> 0.231 m,
+// physics-real 0.120 -> 0.084, physics-walk 0.195 -> 0.064, physics-turn 0.238 -> 0.078; ANEES
+// 12.1 -> 1.5, 2.9 -> 1.8, 5.2 -> 0.6, 8.5 -> 1.0) and on the iCub log (0.028 -> 0.026 m).
+// 80 ms: on the trot (truth contacts, stance density 1e-3), 0.05 / 0.08 / 0.12 s gave ESKF 0.24 /
+// 0.19 / 0.22 m. Settling acts on the
+// filter's input only: the slip check still sees a foot from its touchdown, so a slide at
+// touchdown is found as without settling (exercise 57.X, seed 5790: the first slide on the ice,
+// 3.754 s, found at 3.756 s with and without it). The library's default stays off because
+// settling also changes what that exercise teaches: with it the invariant EKF's velocity RMS
+// error on the ice is 0.022 m/s with no slip reaction as with dropping the foot (0.050 and 0.027
+// m/s without settling), and the naive controller on the estimate falls at 7.58 s instead of
+// 5.05 s (truth: 9.22 s); test_ex57_X.
 constexpr double kRecommendedSettleTime = 0.08;
 
 struct PipelineOptions {
@@ -69,15 +79,15 @@ struct PipelineOptions {
   // What the filter does with a foot found slipping; with kNone the slip check still reports.
   slip::SlipReaction slip = slip::SlipReaction::kNone;
   slip::SlipParams slip_params;
-  // Touchdown settling [s] (0: off): a foot the contact source has just put down is left out of
-  // the filter's input for this long (settleWeight), not out of the slip check's;
+  // Touchdown settling [s] (0: off): a foot the contact source has just put down reaches the
+  // filter at p_c = 0 for this long (settleWeight), the slip check whole;
   // kRecommendedSettleTime says why and how long, and why it is off unless asked for.
   double settle_time = 0.0;
 };
 
 // The factor on a foot's p_c `since_touchdown` seconds after the contact source put it down:
-// 0 before the settling time (the foot is left out), 1 from then on and always when the
-// settling time is 0 (touchdown settling off).
+// 0 before the settling time (p_c held at 0), 1 from then on and always when the settling time
+// is 0 (touchdown settling off).
 double settleWeight(double since_touchdown, double settle_time);
 
 class ContactPipeline {
@@ -137,7 +147,7 @@ class ContactPipeline {
   std::array<double, contact::kMaxFeet> touchdown_t_{};  // when it put the foot down
   StepInput input_;                   // from the contacts, every foot down (the slip check's)
   std::optional<StepInput> reacted_;  // the guard's copy when its reaction changed input_
-  StepInput settled_;                 // the guard's answer without the settling feet
+  StepInput settled_;                 // the guard's answer, the settling feet at p_c = 0
   slip::SlipReport slip_report_;
   Health health_;
   std::optional<double> last_stance_t_;  // last row with a stance foot (or the first row)

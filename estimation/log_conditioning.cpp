@@ -100,6 +100,7 @@ std::string ConditioningReport::describe() const {
   }
   os << "; joint velocities "
      << (velocities_from_angles ? "differentiated from the angles" : "as logged");
+  if (velocities_absent) os << " (the log has none)";
   if (held_imu_rows > 0) os << "; IMU held on " << held_imu_rows << " rows (integrated as held)";
   return os.str();
 }
@@ -143,8 +144,15 @@ ConditioningReport condition(io::Log& log, const LogConditioning& what) {
     }
   }
   const bool has_joints = log.layout.joints || log.layout.num_joints > 0;
+  report.velocities_absent = has_joints && !log.layout.joint_velocity;
+  if (report.velocities_absent && what.joint_velocities == JointVelocitySource::kLogged) {
+    throw std::invalid_argument(
+        "frontend.joint_velocities is 'logged', but the log has no joint velocity columns (dq_ "
+        "or joint<k>_dq): set it to 'angles' or 'auto' to differentiate the angles");
+  }
   report.velocities_from_angles =
-      what.joint_velocities == JointVelocitySource::kAngles && has_joints && rows.size() >= 2;
+      (what.joint_velocities == JointVelocitySource::kAngles || report.velocities_absent) &&
+      has_joints && rows.size() >= 2;
   if (report.velocities_from_angles) {
     if (log.layout.joints) {
       differentiate(

@@ -11,7 +11,8 @@
 //  - Joint velocities. A robot's recorded joint velocities may come from its own filter (the
 //    iCub's lag and disagree with its angles); angles mean the backward difference of the angles
 //    on the (smoothed) stamps, dq_k = (q_k - q_{k-1}) / (t_k - t_{k-1}), causal as on a robot, the
-//    first row taking the second row's difference.
+//    first row taking the second row's difference. A log with the angles only (no dq_ or
+//    joint<k>_dq columns) always gets them: auto, the default, picks them for it.
 //  - Held IMU samples (an IMU slower than the log) are counted, not changed: integrating a held
 //    sample over each row is its zero-order hold, and the noise densities already give the
 //    variance of an integral over any interval, however it is sampled.
@@ -26,12 +27,13 @@
 namespace legkit {
 
 enum class StampHandling { kLogged, kSmoothed, kAuto };
-enum class JointVelocitySource { kLogged, kAngles };
+enum class JointVelocitySource { kLogged, kAngles, kAuto };
 
 struct LogConditioning {
   // auto: smoothed when the stamps jitter by more than kStampJitterLimit, else as logged.
   StampHandling stamps = StampHandling::kAuto;
-  JointVelocitySource joint_velocities = JointVelocitySource::kLogged;
+  // auto: as logged, or from the angles when the log has no velocity columns.
+  JointVelocitySource joint_velocities = JointVelocitySource::kAuto;
 };
 
 // Stamps whose row intervals have a standard deviation above this fraction of their mean are
@@ -69,12 +71,15 @@ struct ConditioningReport {
   double max_stamp_shift = 0.0;   // the largest |smoothed - logged| [s]
   std::string smoothing_failure;  // auto only: why the jittery stamps were kept as logged
   bool velocities_from_angles = false;
-  int held_imu_rows = 0;         // rows whose gyro and accelerometer equal the row before
-  std::string describe() const;  // one line
+  bool velocities_absent = false;  // the log has angles without velocity columns
+  int held_imu_rows = 0;           // rows whose gyro and accelerometer equal the row before
+  std::string describe() const;    // one line
 };
 
 // Applies `what` to `log` (joint velocities of the quadruped's q and of generic joints alike).
-// A log without joint columns keeps its velocities (there are none to replace).
+// A log without joint columns keeps its velocities (there are none to replace). Throws
+// std::invalid_argument naming frontend.joint_velocities when it is `logged` and the log has the
+// angles without velocity columns.
 ConditioningReport condition(io::Log& log, const LogConditioning& what);
 
 }  // namespace legkit

@@ -86,6 +86,20 @@ Node number(const std::string& key, Ref<double> ref, double lo, double hi,
           [=](const Settings& s) { return formatNumber(get(ref, s)); }};
 }
 
+// A number in (0, hi]: zero is refused here, where the file and line are known.
+Node positive(const std::string& key, Ref<double> ref, double hi, const std::string& comment) {
+  return {key, comment,
+          [=](Settings& s, const io::YamlValue& v) {
+            const double x = v.number(0, hi);
+            if (x == 0) {
+              v.fail("expected a number in (0, " + formatNumber(hi) +
+                     "], got 0 (the filters need some white noise)");
+            }
+            ref(s) = x;
+          },
+          [=](const Settings& s) { return formatNumber(get(ref, s)); }};
+}
+
 Node integer(const std::string& key, Ref<int> ref, int lo, int hi, const std::string& comment) {
   return {key, comment, [=](Settings& s, const io::YamlValue& v) { ref(s) = v.integer(lo, hi); },
           [=](const Settings& s) { return std::to_string(get(ref, s)); }};
@@ -134,6 +148,28 @@ Node vector3(const std::string& key, Ref<Eigen::Vector3d> ref, double lo, double
           [=](const Settings& s) {
             const Eigen::Vector3d& x = get(ref, s);
             return flowList({formatNumber(x.x()), formatNumber(x.y()), formatNumber(x.z())});
+          }};
+}
+
+// A list of numbers, each in [lo, hi).
+Node numbers(const std::string& key, Ref<std::vector<double>> ref, double lo, double hi,
+             const std::string& comment) {
+  return {key, comment,
+          [=](Settings& s, const io::YamlValue& v) {
+            std::vector<double> out;
+            for (const io::YamlValue& e : v.elements()) {
+              const double x = e.number(lo, hi);
+              if (x == hi)
+                e.fail("expected a number in [" + formatNumber(lo) + ", " + formatNumber(hi) +
+                       "), got " + formatNumber(x));
+              out.push_back(x);
+            }
+            ref(s) = out;
+          },
+          [=](const Settings& s) {
+            std::vector<std::string> items;
+            for (const double x : get(ref, s)) items.push_back(formatNumber(x));
+            return flowList(items);
           }};
 }
 
@@ -214,12 +250,12 @@ const std::vector<Node>& schema() {
   static const std::vector<Node> root = {
       section(
           "imu", "The IMU: continuous noise densities (datasheet, or `legkit allan`) and its pose",
-          {number(
-               "gyro_noise_density", [](S& s) -> double& { return s.imu.gyro_noise_density; }, 0, 1,
+          {positive(
+               "gyro_noise_density", [](S& s) -> double& { return s.imu.gyro_noise_density; }, 1,
                "sigma_g, gyro white noise [rad/s/sqrt(Hz)]"),
-           number(
-               "accel_noise_density", [](S& s) -> double& { return s.imu.accel_noise_density; }, 0,
-               10, "sigma_a, accelerometer white noise [m/s^2/sqrt(Hz)]"),
+           positive(
+               "accel_noise_density", [](S& s) -> double& { return s.imu.accel_noise_density; }, 10,
+               "sigma_a, accelerometer white noise [m/s^2/sqrt(Hz)]"),
            number(
                "gyro_bias_random_walk", [](S& s) -> double& { return s.imu.gyro_bias_random_walk; },
                0, 0.1, "sigma_bg, gyro bias random walk [rad/s^2/sqrt(Hz)]"),
@@ -358,28 +394,34 @@ const std::vector<Node>& schema() {
               {integer(
                   "iterations", [](S& s) -> int& { return s.tsif.iterations; }, 1, 2,
                   "Gauss-Newton iterations per step")}),
-      section(
-          "frontend", "The leg measurements' noise (the front end: joints to feet)",
-          {number(
-               "encoder_angle_sigma",
-               [](S& s) -> double& { return s.frontend.encoder_angle_sigma; }, 0, 0.1,
-               "joint encoder noise [rad]"),
-           number(
-               "foot_point_sigma", [](S& s) -> double& { return s.frontend.foot_point_sigma; }, 0,
-               0.1, "the contact point on a round foot [m]"),
-           choice<StampHandling>(
-               "timestamps", [](S& s) -> StampHandling& { return s.conditioning.stamps; },
-               {{StampHandling::kAuto, "auto"},
-                {StampHandling::kLogged, "logged"},
-                {StampHandling::kSmoothed, "smoothed"}},
-               "a recorded log's stamps: smoothed (a line fitted over 21 rows), logged, or "
-               "auto: smoothed when the row interval jitters by more than 10 %"),
-           choice<JointVelocitySource>(
-               "joint_velocities",
-               [](S& s) -> JointVelocitySource& { return s.conditioning.joint_velocities; },
-               {{JointVelocitySource::kLogged, "logged"}, {JointVelocitySource::kAngles, "angles"}},
-               "a recorded log's joint velocities: as logged, or the angles' backward "
-               "difference")}),
+      section("frontend", "The leg measurements' noise (the front end: joints to feet)",
+              {number(
+                   "encoder_angle_sigma",
+                   [](S& s) -> double& { return s.frontend.encoder_angle_sigma; }, 0, 0.1,
+                   "joint encoder noise [rad]"),
+               number(
+                   "foot_point_sigma", [](S& s) -> double& { return s.frontend.foot_point_sigma; },
+                   0, 0.1, "the contact point on a round foot [m]"),
+               choice<StampHandling>(
+                   "timestamps", [](S& s) -> StampHandling& { return s.conditioning.stamps; },
+                   {{StampHandling::kAuto, "auto"},
+                    {StampHandling::kLogged, "logged"},
+                    {StampHandling::kSmoothed, "smoothed"}},
+                   "a recorded log's stamps: smoothed (a line fitted over 21 rows), logged, or "
+                   "auto: smoothed when the row interval jitters by more than 10 %"),
+               choice<JointVelocitySource>(
+                   "joint_velocities",
+                   [](S& s) -> JointVelocitySource& { return s.conditioning.joint_velocities; },
+                   {{JointVelocitySource::kAuto, "auto"},
+                    {JointVelocitySource::kLogged, "logged"},
+                    {JointVelocitySource::kAngles, "angles"}},
+                   "a recorded log's joint velocities: as logged, the angles' backward difference, "
+                   "or auto: as logged, from the angles when the log has no velocity columns"),
+               number(
+                   "truth_velocity_window", [](S& s) -> double& { return s.truth_velocity_window; },
+                   1e-3, 1,
+                   "a pose-only truth's velocity: the central difference over this window, for the "
+                   "metrics, the NEES and the initial state [s]")}),
       section(
           "robot", "The robot whose legs the log's joints describe",
           {text(
@@ -398,6 +440,16 @@ const std::vector<Node>& schema() {
           [](const Settings& s, const io::YamlValue& v) {
             if (!s.robot.model.empty() && (s.robot.base.empty() || s.robot.feet.empty())) {
               v.fail("a robot model needs its base body and its feet");
+            }
+            const std::pair<const char*, bool> named[] = {{"base", !s.robot.base.empty()},
+                                                          {"feet", !s.robot.feet.empty()},
+                                                          {"joints", !s.robot.joints.empty()}};
+            for (const auto& [key, given] : named) {
+              const std::optional<io::YamlValue> value = v.find(key);
+              if (s.robot.model.empty() && given && value) {
+                value->fail("given without robot.model (it names part of that model; the "
+                            "built-in Go2 has its own)");
+              }
             }
           }),
       names(
@@ -460,6 +512,32 @@ const std::vector<Node>& schema() {
                         -1e4, 0, "a reading below this is a faulty sensor [N]")},
                    [](const Settings& s, const io::YamlValue& v) {
                      if (s.schmitt.f_low > s.schmitt.f_high) v.fail("f_low must not exceed f_high");
+                   }),
+           section("gait",
+                   "The robot's planned gait on a recorded log (detector gait-clock; the clock of "
+                   "probabilistic and fallback): foot k stands while frac((t - start) / period - "
+                   "offsets[k]) < duty",
+                   {number(
+                        "period", [](S& s) -> double& { return s.gait.period; }, 0, 100,
+                        "gait period, 0: the robot has no planned gait [s]"),
+                    number(
+                        "duty", [](S& s) -> double& { return s.gait.duty; }, 0.01, 1,
+                        "planned stance fraction of the period, 1: never lifts [-]"),
+                    numbers(
+                        "offsets", [](S& s) -> std::vector<double>& { return s.gait.offsets; }, 0,
+                        1, "phase offset of each foot in foot-id order, one per foot [periods]"),
+                    number(
+                        "start", [](S& s) -> double& { return s.gait.start; }, -1e6, 1e6,
+                        "when the clock starts; every foot stands before [s]")},
+                   [](const Settings& s, const io::YamlValue& v) {
+                     if (s.gait.period > 0.0 && s.gait.offsets.empty()) {
+                       v.fail("a gait (period > 0) needs its offsets, one per foot");
+                     }
+                     if (s.gait.offsets.size() > static_cast<std::size_t>(io::kMaxFeet)) {
+                       v.find("offsets")->fail("at most " + std::to_string(io::kMaxFeet) +
+                                               " feet, got " +
+                                               std::to_string(s.gait.offsets.size()));
+                     }
                    })},
           [](const Settings& s, const io::YamlValue& v) {
             const std::vector<std::string> allowed = contactSources();
@@ -582,6 +660,7 @@ Settings defaultSettings() {
   s.pipeline.contact = "fallback";
   s.pipeline.slip = slip::SlipReaction::kInflate;
   s.pipeline.settle_time = kRecommendedSettleTime;
+  s.feet.stance_density = kRobotStanceDensity;
   return s;
 }
 
@@ -609,6 +688,25 @@ std::string settingsYaml(const Settings& settings) {
          "# reads one). Every key is optional: a key left out keeps the value shown here.\n";
   writeNodes(schema(), settings, 0, out);
   return out.str();
+}
+
+std::optional<contact::GaitSchedule> gaitSchedule(const Settings& settings, int num_feet) {
+  const GaitSettings& g = settings.gait;
+  if (!(g.period > 0.0)) return std::nullopt;
+  if (g.offsets.size() != static_cast<std::size_t>(num_feet)) {
+    throw std::invalid_argument((settings.source.empty() ? std::string() : settings.source + ": ") +
+                                "contact.gait.offsets: " + std::to_string(g.offsets.size()) +
+                                " offsets for a robot of " + std::to_string(num_feet) +
+                                " feet (one per foot, in foot-id order)");
+  }
+  contact::GaitSchedule schedule;
+  schedule.period = g.period;
+  schedule.duty = g.duty;
+  schedule.offset.fill(0.0);
+  std::copy(g.offsets.begin(), g.offsets.end(), schedule.offset.begin());
+  schedule.start = g.start;
+  schedule.num_feet = num_feet;
+  return schedule;
 }
 
 std::unique_ptr<Estimator> makeEstimator(const std::string& name, const Settings& s) {

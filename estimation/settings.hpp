@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,21 @@ struct PriorSettings {
 
 // The feet's random walks in the ESKF, the InEKF and the TSIF (the linear KF's swing density is
 // its own: linear_kf.foot_swing_density).
+// A robot's stance-foot slip allowance [m/sqrt(s)]: FootSettings' value in defaultSettings(), so
+// in `legkit run` on physics scenarios and recorded logs. The estimators' own 1e-3 is for exact
+// legs (the analytic simulator; the NEES studies); a robot's stance foot is not a point pinned to
+// the ground. A rubber foot compresses, rolls beyond the rolling-foot model and creeps: about 5 mm
+// over a 0.25 s stance is a density of 0.01, and the iCub paper's stance-foot velocity noise is
+// 9e-3 (config/robots/icub.yaml). Measured with `legkit run --scenario S --config F`, F setting
+// only feet.stance_density, 1e-3 -> 0.01 (ESKF / InEKF position RMSE [m], ANEES):
+//   physics-trot  0.211 / 0.249, 3.59 / 3.60  ->  0.231 / 0.229, 1.50 / 1.59
+//   physics-real  0.092 / 0.093, 4.09 / 4.32  ->  0.084 / 0.084, 1.83 / 1.84
+//   physics-turn  0.067 / 0.067, 3.23 / 3.22  ->  0.078 / 0.078, 0.97 / 0.97
+//   physics-walk  0.054 / 0.052, 1.27 / 1.26  ->  0.064 / 0.064, 0.61 / 0.61
+// 3e-3 and 5e-3 leave the trot over-confident (ANEES 3.0 and 2.4); 0.03 makes every scenario
+// under-confident (0.36 to 0.88). Yaw is the gyro's either way (the heading rule).
+constexpr double kRobotStanceDensity = 0.01;
+
 struct FootSettings {
   double stance_density = 1e-3;  // [m/sqrt(s)] a stance foot's slip allowance
   double swing_density = 2.0;    // [m/sqrt(s)] a swing foot (the soft-contact end of p_c = 0)
@@ -72,6 +88,15 @@ struct InvariantEkfSettings {
       invariant::inekf::TouchdownAttitude::kCorrected;
 };
 
+// The robot's planned gait (contact.gait), for the gait-clock detector and the clock of the
+// probabilistic and fallback detectors on a recorded log: contact::GaitSchedule's fields.
+struct GaitSettings {
+  double period = 0.0;          // [s]; 0: the robot has no planned gait
+  double duty = 0.6;            // planned stance fraction of the period; 1: never lifts
+  std::vector<double> offsets;  // per foot in foot-id order, in periods [0, 1)
+  double start = 0.0;           // when the clock starts [s]
+};
+
 // What only the TSIF has.
 struct TsifSettings {
   int iterations = 1;  // Gauss-Newton iterations per step (1 or 2)
@@ -86,6 +111,9 @@ struct Settings {
   InputLimits limits;
   FrontendNoise frontend;
   LogConditioning conditioning;  // a recorded log's stamps and joint velocities (frontend:)
+  // The window of the central difference that gives a pose-only truth its velocity, for the
+  // metrics, the NEES and the initial state (eval::TruthOptions::velocity_window) [s].
+  double truth_velocity_window = 0.05;
   RobotSettings robot;
   std::vector<std::string> estimators;  // which run, in this order (empty: every one)
   // Contact source, slip reaction, settling, rolling foot. The defaults are a robot's (and
@@ -93,6 +121,7 @@ struct Settings {
   // 80 ms touchdown settling; the library's PipelineOptions{} keeps the log's flags.
   PipelineOptions pipeline;
   contact::SchmittParams schmitt = contact::go2SchmittParams();
+  GaitSettings gait;  // contact.gait
   engineering::GatingParams gating;
   engineering::StationaryInitParams initialisation;
   engineering::MonitorParams monitors;
@@ -103,8 +132,9 @@ struct Settings {
   TsifSettings tsif;
 };
 
-// The kit's defaults: every estimator's own defaults (makeEstimator(name, defaultSettings()) is
-// makeEstimator(name)), and the pipeline of `legkit run` on a physics scenario or a recorded log.
+// The kit's defaults for a robot, those of `legkit run` on a physics scenario or a recorded log:
+// every estimator's own defaults but the stance feet's slip allowance (kRobotStanceDensity), and
+// the pipeline (the fallback detector chain, slips inflated, touchdown settling).
 Settings defaultSettings();
 // Reads a settings file. Keys left out keep their defaults; a relative robot.model is taken
 // relative to the file's folder. Throws io::ConfigError naming the
@@ -116,6 +146,10 @@ Settings settingsFromYaml(const std::string& text, const std::string& name,
                           const Settings& base = defaultSettings());
 // The settings as YAML with a comment on every key; loadSettings() of it gives them back.
 std::string settingsYaml(const Settings& settings);
+// The settings' planned gait for a robot of `num_feet` feet, nothing when contact.gait.period is
+// 0. Throws std::invalid_argument naming contact.gait.offsets (and the settings' file) when the
+// offsets are not one per foot.
+std::optional<contact::GaitSchedule> gaitSchedule(const Settings& settings, int num_feet);
 // An estimator of estimatorNames() with its parameters from the settings: the IMU densities, the
 // limits, the priors, the feet and its own section. Throws std::invalid_argument for an unknown
 // name (listing the known ones).

@@ -22,6 +22,12 @@ LogFrontend logFrontend(const io::LogLayout& layout, const model::LegKinematics*
               : LogFrontend(layout, model::QuadrupedKinematics(), noise, extrinsic);
 }
 
+std::string noGait() {
+  return "contact detector gait-clock needs a gait schedule: give the robot's planned gait in the "
+         "settings, contact.gait (period, duty, offsets, start; `legkit config --print` lists "
+         "them)";
+}
+
 RunResult runWithSettings(const io::Log& recorded, const Settings& settings,
                           const std::string& estimator, const contact::DetectorContext& context,
                           const std::optional<EstimateSample>& x0) {
@@ -36,9 +42,15 @@ RunResult runWithSettings(const io::Log& recorded, const Settings& settings,
   const std::unique_ptr<model::LegKinematics> legs = logLegs(log.layout, settings.robot);
   const LogFrontend frontend =
       logFrontend(log.layout, legs.get(), settings.frontend, settings.imu_extrinsic);
-  ContactPipeline pipeline(frontend, options, context);
+  contact::DetectorContext with_gait = context;
+  if (!with_gait.gait) {
+    with_gait.gait = gaitSchedule(settings, legs ? legs->numFeet() : log.layout.num_feet);
+  }
+  if (options.contact == "gait-clock" && !with_gait.gait) throw std::invalid_argument(noGait());
+  ContactPipeline pipeline(frontend, options, with_gait);
   const std::unique_ptr<Estimator> e = makeEstimator(estimator, settings);
-  RunResult run = runOnLog(*e, log, pipeline, x0 ? *x0 : initialState(log));
+  const double window = settings.truth_velocity_window;
+  RunResult run = runOnLog(*e, log, pipeline, x0 ? *x0 : initialState(log, window), window);
   for (std::size_t k = 0; k < run.trajectory.size(); ++k) run.trajectory[k].t = recorded.rows[k].t;
   return run;
 }

@@ -28,11 +28,17 @@ std::unique_ptr<model::LegKinematics> logLegs(const io::LogLayout& layout,
 LogFrontend logFrontend(const io::LogLayout& layout, const model::LegKinematics* legs,
                         const FrontendNoise& noise, const model::ImuExtrinsic& extrinsic);
 
+// What a recorded log run on detector gait-clock without a planned gait is told: the setting
+// that gives one.
+std::string noGait();
+
 // One estimator over a whole recorded log as `legkit run --log F --config S` runs it: the time
 // base checked (std::invalid_argument naming the row), the settings' front end (stamps, joint
-// velocities), noise, limits, contact pipeline on `context`, robot and IMU extrinsic, from x0
-// (default: initialState). The trajectory keeps the log's own stamps, as the estimate files do
-// (the estimator ran on the conditioned ones), so that it lines up with the log row for row.
+// velocities), noise, limits, contact pipeline on `context` (its gait, when it has none, from
+// the settings' contact.gait), robot and IMU extrinsic, from x0 (default: initialState), a
+// pose-only truth differentiated over frontend.truth_velocity_window. The trajectory keeps the
+// log's own stamps, as the estimate files do (the estimator ran on the conditioned ones), so that
+// it lines up with the log row for row.
 RunResult runWithSettings(const io::Log& recorded, const Settings& settings,
                           const std::string& estimator, const contact::DetectorContext& context,
                           const std::optional<EstimateSample>& x0 = std::nullopt);

@@ -66,10 +66,14 @@ struct RelativeError {
   double rotation_rmse_deg = kNotComputed;    // [deg]
 };
 
+// The default w of the central difference that gives a pose-only truth its velocity [s]
+// (`legkit run`: the settings' frontend.truth_velocity_window).
+constexpr double kTruthVelocityWindow = 0.05;
+
 // How compare treats the truth (the file comment above says why).
 struct TruthOptions {
-  double velocity_window = 0.05;  // w of the central difference, for a pose-only truth [s]
-  double distance_step = 0.01;    // d_min of the distance travelled [m]
+  double velocity_window = kTruthVelocityWindow;  // w for a pose-only truth [s]
+  double distance_step = 0.01;                    // d_min of the distance travelled [m]
 };
 
 struct Metrics {
@@ -100,7 +104,7 @@ struct TruthVelocity {
   bool differentiated = false;
   std::string method;  // in words, as Metrics::velocity_method
 };
-TruthVelocity truthVelocity(const io::Log& truth, double window = TruthOptions{}.velocity_window);
+TruthVelocity truthVelocity(const io::Log& truth, double window = kTruthVelocityWindow);
 
 // Tilt (roll/pitch) and yaw errors of R_hat against R, in radians.
 double tiltError(const Eigen::Matrix3d& R_hat, const Eigen::Matrix3d& R);

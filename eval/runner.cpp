@@ -31,7 +31,8 @@ bool finite(const EstimateSample& x) {
 // IMU frame of `extrinsic`; x0 and what is recorded are the base's.
 template <typename InputOf, typename AfterRow>
 RunResult runRows(Estimator& estimator, const io::Log& log, const model::ImuExtrinsic& extrinsic,
-                  const EstimateSample& x0, const InputOf& input_of, const AfterRow& after_row) {
+                  const EstimateSample& x0, double truth_velocity_window, const InputOf& input_of,
+                  const AfterRow& after_row) {
   const bool moved = !extrinsic.isIdentity();
   RunResult result;
   result.name = estimator.name();
@@ -59,12 +60,16 @@ RunResult runRows(Estimator& estimator, const io::Log& log, const model::ImuExtr
   }
   // The truth the NEES is scored against: the log's gt_v, or its pose differentiated (a pose-only
   // truth, as compare() does); a row without a valid truth gets NaN, left out of the ANEES.
-  const TruthVelocity truth_v = log.layout.ground_truth ? truthVelocity(log) : TruthVelocity{};
+  const TruthVelocity truth_v =
+      log.layout.ground_truth ? truthVelocity(log, truth_velocity_window) : TruthVelocity{};
+  result.given_contact.reserve(log.rows.size());
   for (; !result.failure && k < log.rows.size(); ++k) {
     const io::LogRow& row = log.rows[k];
     try {
       const double dt = k == 0 ? 0.0 : row.t - log.rows[k - 1].t;
       const StepInput& in = input_of(k, dt);
+      std::array<bool, contact::kMaxFeet> given{};
+      for (int i = 0; i < in.num_contacts; ++i) given[in.contacts[i].foot] = true;
       const auto t0 = std::chrono::steady_clock::now();
       estimator.step(in);
       busy += std::chrono::steady_clock::now() - t0;
@@ -98,6 +103,7 @@ RunResult runRows(Estimator& estimator, const io::Log& log, const model::ImuExtr
         }
       }
       result.trajectory.push_back(x);
+      result.given_contact.push_back(given);
       after_row();
       if (!cov) continue;
       result.sigma.push_back(cov->P.diagonal().cwiseSqrt());
@@ -119,11 +125,11 @@ RunResult runRows(Estimator& estimator, const io::Log& log, const model::ImuExtr
 }  // namespace
 
 RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& frontend,
-                   const EstimateSample& x0) {
+                   const EstimateSample& x0, double truth_velocity_window) {
   StepInput in;
   FootVelocityDifferentiator velocities;
   return runRows(
-      estimator, log, frontend.extrinsic(), x0,
+      estimator, log, frontend.extrinsic(), x0, truth_velocity_window,
       [&](std::size_t k, double dt) -> const StepInput& {
         in = frontend.input(log.rows[k], dt, &velocities);
         return in;
@@ -132,7 +138,7 @@ RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& 
 }
 
 RunResult runOnLog(Estimator& estimator, const io::Log& log, ContactPipeline& pipeline,
-                   const EstimateSample& x0) {
+                   const EstimateSample& x0, double truth_velocity_window) {
   pipeline.reset();
   std::chrono::duration<double, std::micro> busy{0};
   std::size_t steps = 0;
@@ -142,7 +148,7 @@ RunResult runOnLog(Estimator& estimator, const io::Log& log, ContactPipeline& pi
   slip.reserve(log.rows.size());
   std::array<bool, contact::kMaxFeet> stance{};  // of the row being run
   RunResult result = runRows(
-      estimator, log, pipeline.frontend().extrinsic(), x0,
+      estimator, log, pipeline.frontend().extrinsic(), x0, truth_velocity_window,
       [&](std::size_t k, double dt) -> const StepInput& {
         const auto t0 = std::chrono::steady_clock::now();
         const StepInput& in =
@@ -207,7 +213,7 @@ double normalisedAnees(const RunResult& run) {
   return sum / static_cast<double>(scored) / run.nees_dof;
 }
 
-EstimateSample initialState(const io::Log& log) {
+EstimateSample initialState(const io::Log& log, double truth_velocity_window) {
   if (log.rows.empty()) throw std::invalid_argument("initialState: the log has no rows");
   const io::LogRow& first = log.rows.front();
   EstimateSample x0;
@@ -219,9 +225,9 @@ EstimateSample initialState(const io::Log& log) {
     x0.q = valid->gt_q;
     x0.p = valid->gt_p;
     // A pose-only truth: its velocity differentiated as the metrics do (eval/metrics.hpp).
-    x0.v = log.layout.gt_velocity
-               ? valid->gt_v
-               : truthVelocity(log).v[static_cast<std::size_t>(valid - log.rows.begin())];
+    x0.v = log.layout.gt_velocity ? valid->gt_v
+                                  : truthVelocity(log, truth_velocity_window)
+                                        .v[static_cast<std::size_t>(valid - log.rows.begin())];
   } else {
     // At rest the accelerometer reads -R^T g: its direction is world up seen from the body. A
     // zero reading (free fall, a dead sensor) has no direction: level.

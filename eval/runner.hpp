@@ -12,6 +12,7 @@
 #include "estimation/estimator.hpp"
 #include "estimation/health.hpp"
 #include "estimation/log_frontend.hpp"
+#include "eval/metrics.hpp"
 #include "eval/trajectory.hpp"
 #include "io/log.hpp"
 
@@ -69,6 +70,9 @@ struct RunResult {
   // the mean wall time of ContactPipeline::step [microseconds].
   std::string contact_source;
   std::vector<std::array<bool, contact::kMaxFeet>> detected_contact;
+  // Per row (same rows as trajectory, indexed by foot id), the feet the estimator was given as
+  // stance measurements (StepInput::contacts: after touchdown settling and the slip reaction).
+  std::vector<std::array<bool, contact::kMaxFeet>> given_contact;
   std::vector<SlipSummary> slip;  // per row (same rows), whatever the reaction
   std::string slip_reaction;      // "none", "inflate", "drop" or "imu-only"
   double pipeline_us_per_step = 0;
@@ -86,7 +90,8 @@ double normalisedAnees(const RunResult& run);
 
 // Resets the estimator to x0, feeds it every row of the log (through the front end) and records
 // its estimate after each row, and, for a filter, its standard deviations and (when the log has
-// ground truth) its NEES.
+// ground truth) its NEES; a pose-only truth's velocity for the NEES is its central difference over
+// truth_velocity_window [s] (eval::truthVelocity).
 //
 // Frames: x0, the recorded trajectory, sigma and NEES are the BASE's (the ground truth's frame).
 // With an IMU extrinsic on the front end the estimator runs in the IMU frame: it starts from
@@ -102,13 +107,13 @@ double normalisedAnees(const RunResult& run);
 // definite, the run stops at that row and result.failure says why and where; runOnLog itself
 // never throws for it, so that the caller can go on with other estimators.
 RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& frontend,
-                   const EstimateSample& x0);
+                   const EstimateSample& x0, double truth_velocity_window = kTruthVelocityWindow);
 // The same on detected contacts: the pipeline is reset, then gives each row's input from the
 // estimator's estimate and covariance after the previous row (57.6). Same failure rules (the
 // pipeline throwing is a failure of the run). Also records the contact source and the stance
 // flags and slip checks per row, and adds the pipeline's health (kNoContact) to the run's.
 RunResult runOnLog(Estimator& estimator, const io::Log& log, ContactPipeline& pipeline,
-                   const EstimateSample& x0);
+                   const EstimateSample& x0, double truth_velocity_window = kTruthVelocityWindow);
 
 // "file:line" of log row k when the log knows the file it came from, else empty.
 std::string rowLocation(const io::Log& log, std::size_t k);
@@ -121,8 +126,10 @@ std::string describe(const RunFailure& failure);
 std::string describe(const Health& health);
 
 // The initial state a run starts from (at row 0's time): the log's ground truth at its first
-// valid row (gt_valid) when it has one, its velocity from eval::truthVelocity on a pose-only
-// truth; otherwise at rest at the origin with roll and pitch from the first accelerometer sample.
-EstimateSample initialState(const io::Log& log);
+// valid row (gt_valid) when it has one, its velocity from eval::truthVelocity (over
+// truth_velocity_window [s]) on a pose-only truth; otherwise at rest at the origin with roll and
+// pitch from the first accelerometer sample.
+EstimateSample initialState(const io::Log& log,
+                            double truth_velocity_window = kTruthVelocityWindow);
 
 }  // namespace legkit::eval

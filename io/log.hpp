@@ -42,7 +42,7 @@ enum class FootCovariance {
 // Which column groups a log carries. t, gyro_* and acc_* are always there; so is at least one of
 // the two leg descriptions (joints, or feet).
 struct LogLayout {
-  bool joints = true;         // q_<leg>_<j>, dq_<leg>_<j>                 [rad], [rad/s]
+  bool joints = true;         // q_<leg>_<j>, dq_<leg>_<j> (optional)      [rad], [rad/s]
   bool torque = false;        // tau_<leg>_<j>                             [N m]
   bool force = false;         // force_<foot>: normal ground-reaction force [N]
   bool contact = false;       // contact_<foot>: 0 or 1
@@ -65,13 +65,18 @@ struct LogLayout {
   // most): a robot described by its own URDF or MJCF (model/leg_kinematics.hpp), whose joints
   // the settings name in column order. Exclusive with `joints` and with foot columns.
   int num_joints = 0;
+  // The joint velocities dq_<leg>_<j> or joint<k>_dq present (with `joints` or generic joints).
+  // A log may give the angles only: the front end then differentiates them
+  // (estimation/log_conditioning.hpp).
+  bool joint_velocity = true;
 
   bool operator==(const LogLayout& o) const {
     return joints == o.joints && torque == o.torque && force == o.force && contact == o.contact &&
            ground_truth == o.ground_truth && num_feet == o.num_feet &&
            foot_columns == o.foot_columns && contact_truth == o.contact_truth &&
            foot_velocity == o.foot_velocity && gt_velocity == o.gt_velocity &&
-           gt_valid == o.gt_valid && num_joints == o.num_joints;
+           gt_valid == o.gt_valid && num_joints == o.num_joints &&
+           joint_velocity == o.joint_velocity;
   }
   bool operator!=(const LogLayout& o) const { return !(*this == o); }
 };

@@ -36,11 +36,11 @@ void appendJoints(std::vector<Column>& out, const char* prefix, Field field) {
 }
 
 // joint<k>_q for every k, then joint<k>_dq (the quadruped's order: angles, then velocities).
-void appendGenericJoints(std::vector<Column>& out, int num_joints) {
+void appendGenericJoints(std::vector<Column>& out, int num_joints, bool velocity) {
   for (int k = 0; k < num_joints; ++k) {
     out.push_back({"joint" + std::to_string(k) + "_q", Field::kJointQ, 0, k});
   }
-  for (int k = 0; k < num_joints; ++k) {
+  for (int k = 0; velocity && k < num_joints; ++k) {
     out.push_back({"joint" + std::to_string(k) + "_dq", Field::kJointDq, 0, k});
   }
 }
@@ -95,7 +95,7 @@ std::unordered_map<std::string, Column> buildNameTable() {
   appendJoints(all, "q", Field::kQ);
   appendJoints(all, "dq", Field::kDq);
   appendJoints(all, "tau", Field::kTau);
-  appendGenericJoints(all, kMaxJoints);
+  appendGenericJoints(all, kMaxJoints, true);
   for (int k = 0; k < kMaxFeet; ++k) {
     for (bool leg_names : {false, true}) {
       if (leg_names && k >= kNumLegs) continue;
@@ -141,6 +141,10 @@ std::vector<Column> columnsOf(const LogLayout& layout) {
   if (layout.gt_valid && !layout.ground_truth) {
     throw std::invalid_argument("log layout: a gt_valid column needs the ground-truth columns");
   }
+  if (!layout.joint_velocity && !layout.joints && !generic) {
+    throw std::invalid_argument(
+        "log layout: joint_velocity = false describes joint columns; without them leave it true");
+  }
   if (!layout.gt_velocity && !layout.ground_truth) {
     throw std::invalid_argument(
         "log layout: gt_velocity = false describes a ground truth; without one leave it true");
@@ -160,9 +164,9 @@ std::vector<Column> columnsOf(const LogLayout& layout) {
   appendVector(out, "acc_", Field::kAcc);
   if (layout.joints) {
     appendJoints(out, "q", Field::kQ);
-    appendJoints(out, "dq", Field::kDq);
+    if (layout.joint_velocity) appendJoints(out, "dq", Field::kDq);
   }
-  appendGenericJoints(out, layout.num_joints);
+  appendGenericJoints(out, layout.num_joints, layout.joint_velocity);
   if (layout.torque) appendJoints(out, "tau", Field::kTau);
   if (layout.force) {
     for (int k = 0; k < layout.num_feet; ++k) {

@@ -5,7 +5,8 @@
 //   gyro_x gyro_y gyro_z               gyro reading, body frame [rad/s]
 //   acc_x acc_y acc_z                  accelerometer reading (specific force), body frame [m/s^2]
 //   q_<leg>_<j>, dq_<leg>_<j>          joint angle [rad] and velocity [rad/s]; leg FL FR RL RR,
-//                                      j = 0 hip abduction, 1 hip flexion, 2 knee
+//                                      j = 0 hip abduction, 1 hip flexion, 2 knee (the dq_, or
+//                                      the joint<k>_dq below, are optional: all or none)
 //   tau_<leg>_<j>                      joint torque [N m]                         (optional)
 //   force_<leg> | foot<k>_force        normal ground-reaction force [N]           (optional)
 //   contact_<leg> | foot<k>_contact    contact flag, 0 or 1                        (optional)

@@ -180,8 +180,10 @@ class Reader {
       case Field::kAcc:
         return "missing required column";
       case Field::kQ:
+        return "missing: joint columns need q_ for all 12 joints (and dq_ for all 12 or none)";
       case Field::kDq:
-        return "missing: joint columns need q_ and dq_ for all 12 joints";
+        return "missing: joint velocity columns need dq_ for all 12 joints (or none: the front "
+               "end then differentiates the angles)";
       case Field::kTau:
         return "missing: the torque group needs all 12 tau_ columns";
       case Field::kForce:
@@ -198,7 +200,8 @@ class Reader {
       case Field::kJointDq: {
         const Field other = want.field == Field::kJointQ ? Field::kJointDq : Field::kJointQ;
         if (has(other, -1, want.index)) {
-          return "missing: each generic joint needs both joint<k>_q and joint<k>_dq";
+          return "missing: each generic joint needs both joint<k>_q and joint<k>_dq (or the log "
+                 "gives no joint<k>_dq at all: the front end then differentiates the angles)";
         }
         return "missing: generic joints are numbered 0 .. " +
                std::to_string(layout_.num_joints - 1) + " without a gap (joint" +
@@ -245,6 +248,9 @@ class Reader {
         layout.num_joints = std::max(layout.num_joints, c.index + 1);
       }
     }
+    // Angles without velocities: the front end differentiates them.
+    layout.joint_velocity =
+        has(Field::kDq) || has(Field::kJointDq) || (!layout.joints && layout.num_joints == 0);
     layout.contact_truth = has(Field::kGtContact) || has(Field::kGtFn) || has(Field::kGtFt) ||
                            has(Field::kGtVf) || has(Field::kGtSlip);
     const bool var = has(Field::kFootVar);

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -29,14 +31,28 @@ YamlValue::YamlValue(std::shared_ptr<const YAML::Node> node, std::string file, s
     : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)) {}
 
 YamlValue YamlValue::parse(const std::string& text, const std::string& file) {
+  std::vector<YAML::Node> documents;
   try {
-    return YamlValue(std::make_shared<const YAML::Node>(YAML::Load(text)), file, "");
+    documents = YAML::LoadAll(text);
   } catch (const YAML::Exception& e) {
     throw ConfigError(file + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax: " + e.msg);
   }
+  if (documents.size() > 1) {  // yaml-cpp's Load would read the first and drop the rest
+    const YAML::Mark mark = documents[1].Mark();
+    throw ConfigError(file + ":" + std::to_string(mark.is_null() ? 0 : mark.line + 1) +
+                      ": a second YAML document (after '---' or '...'): a settings file is one "
+                      "document");
+  }
+  return YamlValue(
+      std::make_shared<const YAML::Node>(documents.empty() ? YAML::Node() : documents[0]), file,
+      "");
 }
 
 YamlValue YamlValue::parseFile(const std::string& path) {
+  std::error_code ec;  // a directory opens as an empty stream: it would read as no keys at all
+  if (std::filesystem::is_directory(path, ec)) {
+    throw ConfigError(path + ": is a directory, not a settings file");
+  }
   std::ifstream in(path);
   std::ostringstream text;
   if (in) text << in.rdbuf();
@@ -164,7 +180,17 @@ bool YamlValue::boolean() const {
 
 std::string YamlValue::text() const {
   if (isNull()) return "";
-  return scalar("text");
+  const std::string s = scalar("text");
+  // A NUL would end the name where the C libraries below read it ("FL\0x" is "FL" to them).
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) {
+      char code[8];
+      std::snprintf(code, sizeof code, "0x%02x", static_cast<unsigned>(u));
+      fail(std::string("expected text without control characters, got one (") + code + ")");
+    }
+  }
+  return s;
 }
 
 std::string YamlValue::oneOf(const std::vector<std::string>& allowed) const {

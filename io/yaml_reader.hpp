@@ -27,9 +27,11 @@ class ConfigError : public std::runtime_error {
 // ("imu.extrinsic.translation[1]").
 class YamlValue {
  public:
-  // The document in `text`, named `file` in messages. A syntax error is a ConfigError at its line.
+  // The document in `text`, named `file` in messages. A syntax error, or a second document after
+  // '---', is a ConfigError at its line.
   static YamlValue parse(const std::string& text, const std::string& file);
-  // The document in the file at `path` (a file that cannot be read is a ConfigError too).
+  // The document in the file at `path` (a file that cannot be read, or a directory, is a
+  // ConfigError too).
   static YamlValue parseFile(const std::string& path);
 
   const std::string& path() const { return path_; }
@@ -51,8 +53,8 @@ class YamlValue {
   // Scalars. A number is finite and within [lo, hi] (NaN, inf and text are errors).
   double number(double lo, double hi) const;
   int integer(int lo, int hi) const;
-  bool boolean() const;  // true or false
-  std::string text() const;
+  bool boolean() const;      // true or false
+  std::string text() const;  // no control characters (NUL, tab, newline, ...)
   // Text that is one of `allowed` (the message lists them).
   std::string oneOf(const std::vector<std::string>& allowed) const;
 

@@ -3,11 +3,16 @@
 #include "model/quadruped_leg_kinematics.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 namespace legkit::model {
 namespace {
@@ -175,6 +180,126 @@ bool prepareUrdf(std::string& xml) {
   return true;
 }
 
+// The attributes of a start tag, in order, as (name, value).
+std::vector<std::pair<std::string, std::string>> attributes(const std::string& s,
+                                                            const StartTag& tag) {
+  std::vector<std::pair<std::string, std::string>> out;
+  std::size_t i = tag.name_end;
+  while (true) {
+    const std::size_t name = s.find_first_not_of(" \t\r\n", i);
+    if (name == std::string::npos || name >= tag.end || s[name] == '/' || s[name] == '>') break;
+    const std::size_t eq = s.find('=', name);
+    const std::size_t open = s.find_first_of("\"'", eq);
+    if (eq == std::string::npos || open == std::string::npos || open >= tag.end) break;
+    const std::size_t close = s.find(s[open], open + 1);
+    if (close == std::string::npos || close >= tag.end) break;
+    std::string key = s.substr(name, eq - name);
+    key.erase(key.find_last_not_of(" \t\r\n") + 1);
+    out.emplace_back(key, s.substr(open + 1, close - open - 1));
+    i = close + 1;
+  }
+  return out;
+}
+
+// True when `value` is one or more whitespace-separated finite numbers.
+bool finiteNumbers(const std::string& value) {
+  std::istringstream tokens(value);
+  int count = 0;
+  for (std::string token; tokens >> token; ++count) {
+    char* end = nullptr;
+    const double x = std::strtod(token.c_str(), &end);
+    if (end != token.c_str() + token.size() || !std::isfinite(x)) return false;
+  }
+  return count > 0;
+}
+
+// Throws naming the line and the joint or link when a numeric attribute of a URDF's kinematics
+// or inertia is not finite numbers: MuJoCo reads "nan" or a word as 0 and loads the robot.
+void checkUrdfNumbers(const std::string& path, const std::string& xml) {
+  static const std::vector<std::pair<std::string, std::vector<std::string>>> kNumeric = {
+      {"origin", {"xyz", "rpy"}},
+      {"axis", {"xyz"}},
+      {"limit", {"lower", "upper", "effort", "velocity"}},
+      {"mass", {"value"}},
+      {"inertia", {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}},
+      {"dynamics", {"damping", "friction"}}};
+  std::string owner = "the robot";  // the joint or link being read
+  for (StartTag t = nextStartTag(xml, 0); t.begin != std::string::npos;
+       t = nextStartTag(xml, t.end)) {
+    if (t.name == "joint" || t.name == "link") {
+      for (const auto& [key, value] : attributes(xml, t)) {
+        if (key == "name") owner = t.name + " '" + value + "'";
+      }
+      continue;
+    }
+    const auto element = std::find_if(kNumeric.begin(), kNumeric.end(),
+                                      [&](const auto& e) { return e.first == t.name; });
+    if (element == kNumeric.end()) continue;
+    for (const auto& [key, value] : attributes(xml, t)) {
+      const std::vector<std::string>& numeric = element->second;
+      if (std::find(numeric.begin(), numeric.end(), key) == numeric.end() || finiteNumbers(value)) {
+        continue;
+      }
+      const auto line =
+          1 + std::count(xml.begin(), xml.begin() + static_cast<std::ptrdiff_t>(t.begin), '\n');
+      fail(path, "line " + std::to_string(line) + ", " + owner + ": <" + t.name + " " + key +
+                     "=\"" + value + "\">: expected finite numbers");
+    }
+  }
+}
+
+// Throws naming the first body, joint or site whose pose, axis, range, mass or inertia is not
+// finite: MuJoCo loads an MJCF "nan" with a warning only.
+void checkFinite(const std::string& path, const mjModel& m) {
+  const auto finite = [](const mjtNum* x, int n) {
+    return std::all_of(x, x + n, [](mjtNum v) { return std::isfinite(v); });
+  };
+  const auto refuse = [&](mjtObj type, const char* what, int id) {
+    fail(path, std::string(what) + " '" + objectName(m, type, id) +
+                   "': a number that is not finite (NaN or inf in the file)");
+  };
+  for (int b = 0; b < m.nbody; ++b) {
+    if (!finite(m.body_pos + 3 * b, 3) || !finite(m.body_quat + 4 * b, 4) ||
+        !finite(m.body_ipos + 3 * b, 3) || !finite(m.body_iquat + 4 * b, 4) ||
+        !finite(m.body_mass + b, 1) || !finite(m.body_inertia + 3 * b, 3)) {
+      refuse(mjOBJ_BODY, "body", b);
+    }
+  }
+  for (int j = 0; j < m.njnt; ++j) {
+    if (!finite(m.jnt_pos + 3 * j, 3) || !finite(m.jnt_axis + 3 * j, 3) ||
+        !finite(m.jnt_range + 2 * j, 2)) {
+      refuse(mjOBJ_JOINT, "joint", j);
+    }
+  }
+  for (int s = 0; s < m.nsite; ++s) {
+    if (!finite(m.site_pos + 3 * s, 3) || !finite(m.site_quat + 4 * s, 4)) {
+      refuse(mjOBJ_SITE, "site", s);
+    }
+  }
+}
+
+// MuJoCo's warnings on this thread go into a string while a collector lives, else to stderr
+// (never to MuJoCo's default stdout and MUJOCO_LOG.TXT in the working directory).
+thread_local std::string* t_warnings = nullptr;
+
+void collectWarning(const char* message) {
+  if (t_warnings != nullptr) {
+    *t_warnings += (t_warnings->empty() ? "" : "; ") + std::string(message);
+  } else {
+    std::fprintf(stderr, "MuJoCo warning: %s\n", message);
+  }
+}
+
+struct WarningCollector {
+  explicit WarningCollector(std::string& into) {
+    mju_user_warning = collectWarning;
+    t_warnings = &into;
+  }
+  ~WarningCollector() { t_warnings = nullptr; }
+  WarningCollector(const WarningCollector&) = delete;
+  WarningCollector& operator=(const WarningCollector&) = delete;
+};
+
 struct VfsDeleter {
   void operator()(mjVFS* vfs) const {
     mj_deleteVFS(vfs);
@@ -192,7 +317,10 @@ MjModelPtr load(const std::string& path) {
   std::string xml = text.str();
   char error[1000] = "";
   MjModelPtr m;
+  std::string warnings;
+  const WarningCollector collector(warnings);
   if (prepareUrdf(xml)) {
+    checkUrdfNumbers(path, xml);
     const std::unique_ptr<mjVFS, VfsDeleter> vfs(new mjVFS);
     mj_defaultVFS(vfs.get());
     if (mj_makeEmptyFileVFS(vfs.get(), path.c_str(), static_cast<int>(xml.size())) != 0) {
@@ -212,6 +340,9 @@ MjModelPtr load(const std::string& path) {
     }
     fail(path, "MuJoCo cannot load it: " + message);
   }
+  // MuJoCo loads an MJCF "nan" with a warning only (and as a finite number).
+  if (!warnings.empty()) fail(path, "MuJoCo warns: " + warnings);
+  checkFinite(path, *m);
   return m;
 }
 
@@ -262,6 +393,14 @@ MujocoLegKinematics MujocoLegKinematics::fromFile(const std::string& path, const
       fail(path, "foot '" + name + "' (on body '" + objectName(m, mjOBJ_BODY, f.body) +
                      "') is not below the base '" + base +
                      "' in the kinematic tree: no leg joint moves it relative to the base");
+    }
+    for (const Frame& other : robot.feet_) {  // each foot ends a leg of its own
+      if (other.body == f.body || below(m, f.body, other.body) || below(m, other.body, f.body)) {
+        fail(path, "feet '" + other.name + "' and '" + name + "' are on one leg (bodies '" +
+                       objectName(m, mjOBJ_BODY, other.body) + "' and '" +
+                       objectName(m, mjOBJ_BODY, f.body) +
+                       "': one body, or one below the other in the kinematic tree)");
+      }
     }
     robot.feet_.push_back(f);
   }

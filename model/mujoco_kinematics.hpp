@@ -40,8 +40,11 @@ class MujocoLegKinematics final : public LegKinematics {
   // body, in model order). Throws std::runtime_error naming the file and what is wrong: the file
   // cannot be opened; MuJoCo cannot load it (MuJoCo's message); an unknown base, foot or joint
   // name (the known ones listed); a name given twice; a joint that is not a hinge or slide or not
-  // below the base; a foot not below the base; no foot, more than kMaxLegFeet feet, no joint or
-  // more than kMaxLegJoints joints.
+  // below the base; a foot not below the base; two feet on one leg (on one body, or one below the
+  // other); no foot, more than kMaxLegFeet feet, no joint or more than kMaxLegJoints joints; a
+  // URDF <origin>, <axis>, <limit>, <mass>, <inertia> or <dynamics> number that is not finite
+  // (MuJoCo would read "nan" as 0), naming its line and joint or link; a warning from MuJoCo while
+  // loading (an MJCF "nan"); a body, joint or site whose compiled numbers are not finite.
   static MujocoLegKinematics fromFile(const std::string& path, const std::string& base,
                                       const std::vector<std::string>& feet,
                                       const std::vector<std::string>& joints = {});

@@ -130,6 +130,8 @@ void bindIo(py::module_& m) {
       .def_readonly("gt_velocity", &io::LogLayout::gt_velocity, "gt_vx.. present")
       .def_readonly("gt_valid", &io::LogLayout::gt_valid, "a gt_valid column")
       .def_readonly("num_joints", &io::LogLayout::num_joints, "generic joint<k>_ columns")
+      .def_readonly("joint_velocity", &io::LogLayout::joint_velocity,
+                    "dq_ or joint<k>_dq present (else the front end differentiates the angles)")
       .def("__eq__", &io::LogLayout::operator==);
 
   py::class_<io::Log>(m, "Log",

@@ -60,7 +60,8 @@ void bindSim(py::module_& m) {
       [](const std::string& scenario, unsigned seed) {
         // As `legkit run --scenario` runs it: the front end told the simulator's own sensor
         // noise (so that NEES measures the filters, not a mismatched model); the analytic
-        // scenarios keep their true contact flags, with no slip check, rolling foot or settling.
+        // scenarios keep their true contact flags, with no slip check, rolling foot or settling,
+        // and the estimators' stance density (exact legs).
         Settings s = defaultSettings();
         if (tools::isPhysicsScenario(scenario)) {
           sim::PhysicsOptions options = sim::PhysicsOptions::forScenario(scenario);
@@ -76,12 +77,14 @@ void bindSim(py::module_& m) {
         s.pipeline.slip = slip::SlipReaction::kNone;
         s.pipeline.rolling_foot = false;
         s.pipeline.settle_time = 0.0;
+        s.feet = FootSettings{};  // exact legs: the estimators' own stance density
         return s;
       },
       py::arg("scenario") = "trot", py::arg("seed") = 1,
       "The settings `legkit run --scenario NAME` runs a simulated log with: the kit's defaults, "
       "the front end told the simulator's sensor noise, and on the analytic scenarios the true "
-      "contact flags (no detector, slip check, rolling foot or settling)");
+      "contact flags (no detector, slip check, rolling foot or settling) and the estimators' own "
+      "stance density (exact legs)");
 }
 
 }  // namespace legkit::python

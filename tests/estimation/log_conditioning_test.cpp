@@ -141,7 +141,7 @@ TEST_CASE("the settings name the conditioning under frontend:", "[57.11][fronten
   CHECK(s.conditioning.stamps == StampHandling::kLogged);
   CHECK(s.conditioning.joint_velocities == JointVelocitySource::kAngles);
   CHECK(defaultSettings().conditioning.stamps == StampHandling::kAuto);
-  CHECK(defaultSettings().conditioning.joint_velocities == JointVelocitySource::kLogged);
+  CHECK(defaultSettings().conditioning.joint_velocities == JointVelocitySource::kAuto);
   CHECK_THROWS_WITH(settingsFromYaml("frontend:\n  joint_velocities: \"filtered\"\n", "test.yaml"),
                     Catch::Matchers::Contains("joint_velocities"));
 }

@@ -10,3 +10,8 @@ target_compile_definitions(test_config_cli PRIVATE LEGKIT_EXE="$<TARGET_FILE:leg
 target_include_directories(test_config_cli PRIVATE ${PROJECT_SOURCE_DIR})
 add_dependencies(test_config_cli legkit)
 
+
+# Issue 23 items 3 and 4: what the check and the run refuse, naming the file and the key.
+legkit_add_test(test_robot_refusals_cli SOURCES robot_refusals_cli_test.cpp LABELS "cli;settings")
+target_compile_definitions(test_robot_refusals_cli PRIVATE LEGKIT_EXE="$<TARGET_FILE:legkit>")
+add_dependencies(test_robot_refusals_cli legkit)

@@ -89,8 +89,8 @@ TEST_CASE("legkit config --check loads the robot model; legkit robot shows it", 
   write(dir.path / "missing.yaml", "robot:\n  model: nowhere.urdf\n  base: trunk\n  feet: [f]\n");
   Result r = runLegkit(dir.path, {"config", "--check", "missing.yaml"});
   CHECK(r.status == 2);
-  CHECK_THAT(r.output, Contains("missing.yaml: robot model '") && Contains("nowhere.urdf") &&
-                           Contains("cannot open the file"));
+  CHECK_THAT(r.output, Contains("missing.yaml: robot.model: robot model '") &&
+                           Contains("nowhere.urdf") && Contains("cannot open the file"));
   const std::string go1 = LEGKIT_SOURCE_DIR "/data/robots/unitree/go1.urdf";
   write(dir.path / "nofoot.yaml",
         "robot:\n  model: " + go1 + "\n  base: trunk\n  feet: [FL_foot, toe]\n");

@@ -58,11 +58,16 @@ std::pair<EstimateSample, std::optional<BaseCovariance>> runTrot(Estimator& e) {
 
 }  // namespace
 
-TEST_CASE("settings: the defaults are every estimator's own", "[settings]") {
+TEST_CASE("settings: the defaults are every estimator's own but a robot's stance density",
+          "[settings]") {
+  // The one difference: a robot's stance feet (kRobotStanceDensity), not exact legs'.
+  Settings exact_legs = defaultSettings();
+  CHECK(exact_legs.feet.stance_density == kRobotStanceDensity);
+  exact_legs.feet.stance_density = FootSettings{}.stance_density;
   for (const std::string& name : estimatorNames()) {
     CAPTURE(name);
     const auto plain = makeEstimator(name);
-    const auto configured = makeEstimator(name, defaultSettings());
+    const auto configured = makeEstimator(name, exact_legs);
     REQUIRE(configured->name() == name);
     const auto [x_plain, P_plain] = runTrot(*plain);
     const auto [x_conf, P_conf] = runTrot(*configured);

@@ -90,11 +90,12 @@ TEST_CASE("--dataset icub-walking is the shipped log with its settings, one comm
 }
 
 TEST_CASE(
-    "physics-real: heading corrections from the feet lose yaw; the heading rule (the default) "
-    "keeps the gyro's",
+    "physics-real: heading corrections from over-confident stance feet lose yaw; the heading rule "
+    "and a robot's stance density (the defaults) keep the gyro's",
     "[cli][real-robot][physics]") {
   const test::ScratchFolder dir("physics_real_cli");
-  std::ofstream(dir.path / "plain.yaml") << "feet:\n  correct_yaw: true\n";
+  // The filters as they were: heading corrections, and stance feet pinned as exact legs' are.
+  std::ofstream(dir.path / "plain.yaml") << "feet:\n  correct_yaw: true\n  stance_density: 0.001\n";
   std::string output;
   std::map<std::string, Row> plain, kit;
   REQUIRE(runLegkit(dir.path, {"--scenario", "physics-real", "--config", "plain.yaml"}, plain,

@@ -33,7 +33,7 @@ int ConfigCommand::run(std::ostream& out) const {
   try {
     model::makeLegKinematics(robot.model, robot.base, robot.feet, robot.joints);
   } catch (const std::runtime_error& e) {
-    throw InputError(check_ + ": " + e.what());
+    throw InputError(check_ + ": robot.model: " + e.what());  // as legkit run says it
   }
   out << "ok\n";
   return kExitOk;

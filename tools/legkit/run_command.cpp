@@ -45,9 +45,10 @@ namespace fs = std::filesystem;
 // the BaseCovariance convention (sigma_theta*, sigma_v*, sigma_p*) and its NEES. A comment line
 // gives the NEES degrees of freedom and its single-run 95 % bounds for the plots.
 // `stamps`, when not empty, are the log's own stamps of its rows (the estimates are one per row),
-// written in place of the smoothed ones the estimators ran on.
+// written in place of the smoothed ones the estimators ran on. Then contact_0..contact_<n-1>, the
+// feet of `num_feet` the estimator was given in stance at that row (1) or not (0).
 void writeEstimates(std::ostream& f, const eval::RunResult& run, double rate,
-                    const std::vector<double>& stamps) {
+                    const std::vector<double>& stamps, int num_feet) {
   const bool filter = !run.sigma.empty();
   const bool nees = !run.nees.empty();
   if (nees) {
@@ -59,6 +60,7 @@ void writeEstimates(std::ostream& f, const eval::RunResult& run, double rate,
     f << ",sigma_thx,sigma_thy,sigma_thz,sigma_vx,sigma_vy,sigma_vz,sigma_px,sigma_py,sigma_pz";
   }
   if (nees) f << ",nees";
+  for (int foot = 0; foot < num_feet; ++foot) f << ",contact_" << foot;
   f << '\n';
   for (const std::size_t k : estimateRows(run.trajectory, rate)) {
     const EstimateSample& e = run.trajectory[k];
@@ -69,6 +71,7 @@ void writeEstimates(std::ostream& f, const eval::RunResult& run, double rate,
       for (int i = 0; i < 9; ++i) f << ',' << run.sigma[k](i);
     }
     if (nees) f << ',' << run.nees[k];
+    for (int foot = 0; foot < num_feet; ++foot) f << ',' << run.given_contact[k][foot];
     f << '\n';
   }
 }
@@ -338,14 +341,21 @@ RunCommand::RunCommand(CLI::App& app)
     : command_(app.add_subcommand(
           "run", "The main job: simulate (or read a log), run every estimator, print one table")) {
   CLI::App& c = *command_;
-  c.add_option("--scenario", scenario_, "Simulated motion, " + scenarioHelp())
-      ->check(CLI::IsMember(allScenarioNames()))
-      ->capture_default_str();
+  scenario_option_ = c.add_option("--scenario", scenario_,
+                                  "Simulated motion, " + scenarioHelp() +
+                                      " (with --log or --dataset: no effect, a warning)")
+                         ->check(CLI::IsMember(allScenarioNames()))
+                         ->capture_default_str();
   duration_option_ = c.add_option("--duration", duration_,
                                   "Simulated time [s] (default 60; a physics scenario's own "
-                                  "length, e.g. 10 s for physics-stand)")
+                                  "length, e.g. 10 s for physics-stand; with --log or --dataset: "
+                                  "no effect, a warning)")
                          ->check(finiteRange(1e-3, 3600.0));
-  c.add_option("--seed", seed_, "Random seed of the simulation")->capture_default_str();
+  seed_option_ = c.add_option("--seed", seed_,
+                              "Random seed of the simulation and of the probabilistic "
+                              "detector's training runs (with --log or --dataset it seeds only "
+                              "the training: otherwise no effect, a warning)")
+                     ->capture_default_str();
   // Not CLI::ExistingFile: a log that cannot be read is an input error (exit 2), whatever the
   // reason, with the reader's own message.
   CLI::Option* log =
@@ -399,8 +409,9 @@ RunCommand::RunCommand(CLI::App& app)
   // Not CLI::ExistingFile: a file that cannot be read is an input error (exit 2).
   c.add_option("--config", config_,
                "Settings file (`legkit config --print` writes the defaults): the estimators that "
-               "run and their noise, priors and limits, the front-end noise, the contact pipeline "
-               "and the detector's thresholds. Options given on this command line override it");
+               "run and their noise, priors and limits, the front-end noise, the contact pipeline, "
+               "the detector's thresholds and a recorded log's planned gait (contact.gait, for "
+               "--contact gait-clock). Options given on this command line override it");
   c.add_flag("--json", json_, "Print the summary as JSON (one object per estimator)");
   c.add_flag("--tum", tum_,
              "Also write each estimate_<name>.tum and the log's truth.tum in TUM format (t tx ty "
@@ -497,6 +508,20 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
                                    : analytic                  ? 0.0
                                                                : kDefaultSettle;
   }
+  // The options of a simulated run given with a recorded log: said, not silently ignored.
+  if (!log_.empty()) {
+    const auto unused = [](const std::string& option, const std::string& why) {
+      std::cerr << "legkit run: warning: " << option << " has no effect on a recorded log (" << why
+                << ")\n";
+    };
+    if (scenario_option_->count() > 0) unused("--scenario", "it chooses the simulated motion");
+    if (duration_option_->count() > 0) unused("--duration", "the whole log is run");
+    if (seed_option_->count() > 0 && pipeline_options.contact != "probabilistic") {
+      unused("--seed",
+             "it seeds the simulation, and on a log only --contact probabilistic's "
+             "training runs");
+    }
+  }
   contact::DetectorContext context;
   if (settings) context.schmitt = settings->schmitt;
   if (log_.empty() && !analytic) {
@@ -526,7 +551,36 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   } catch (const std::runtime_error& e) {
     throw InputError((settings ? config_ + ": robot.model: " : std::string()) + e.what());
   }
+  // The robot's counts against the log's columns, naming both files and the key (the front end's
+  // own check names neither).
+  const auto mismatch = [&](const char* key, int robot, int logged, const char* columns) {
+    const std::string counts = std::to_string(robot) + " " + key + ", " + source + " has " +
+                               std::to_string(logged) + " (" + columns + " columns)";
+    if (!settings) {
+      throw InputError("the built-in Go2 (no --config) has " + counts +
+                       ": name the robot in --config (robot.model)");
+    }
+    throw InputError(config_ + ": robot." + key + ": " + counts);
+  };
+  if (legs && legs->numJoints() != log.layout.num_joints) {
+    mismatch("joints", legs->numJoints(), log.layout.num_joints, "joint<k>_q");
+  }
+  if (legs && legs->numFeet() != log.layout.num_feet) {
+    mismatch("feet", legs->numFeet(), log.layout.num_feet, "foot<k>_");
+  }
   const LogFrontend frontend = eval::logFrontend(log.layout, legs.get(), noise, extrinsic);
+  const int num_feet = legs ? legs->numFeet() : log.layout.num_feet;
+  // A recorded log's planned gait comes from the settings (contact.gait).
+  if (!log_.empty() && settings) {
+    try {
+      context.gait = gaitSchedule(*settings, num_feet);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(e.what());
+    }
+  }
+  if (pipeline_options.contact == "gait-clock" && !context.gait) {
+    throw UsageError("--contact gait-clock: " + eval::noGait());
+  }
   std::optional<ContactPipeline> made;
   try {
     made.emplace(frontend, pipeline_options, context);
@@ -550,21 +604,28 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
                  [&](std::ostream& f) { writeTumTruth(f, log, estimate_rate_, logged_stamps); });
   }
 
-  const EstimateSample x0 = eval::initialState(log);
+  // A pose-only truth's velocity: its central difference over this window [s].
+  eval::TruthOptions truth_options;
+  if (settings) truth_options.velocity_window = settings->truth_velocity_window;
+  const EstimateSample x0 = eval::initialState(log, truth_options.velocity_window);
   std::vector<RunRow> rows;
-  const Settings estimator_settings = settings ? *settings : defaultSettings();
+  Settings estimator_settings = settings ? *settings : defaultSettings();
+  // The analytic scenarios' legs are exact: the estimators' own stance density, not a robot's.
+  if (analytic && !settings) estimator_settings.feet = FootSettings{};
   const std::vector<std::string> names =
       estimator_settings.estimators.empty() ? estimatorNames() : estimator_settings.estimators;
   for (const std::string& name : names) {
     const std::unique_ptr<Estimator> e = makeEstimator(name, estimator_settings);
-    RunRow r{eval::runOnLog(*e, log, pipeline, x0), std::nullopt, std::nullopt};
+    RunRow r{eval::runOnLog(*e, log, pipeline, x0, truth_options.velocity_window), std::nullopt,
+             std::nullopt};
     if (log.layout.ground_truth && !r.run.failed()) {
-      r.metrics =
-          eval::compare(log, r.run.trajectory, {kRpeDistances.begin(), kRpeDistances.end()});
+      r.metrics = eval::compare(log, r.run.trajectory, {kRpeDistances.begin(), kRpeDistances.end()},
+                                truth_options);
     }
     r.contact_scores = contactScores(log, r.run);
-    folder.write("estimate_" + r.run.name + ".csv",
-                 [&](std::ostream& f) { writeEstimates(f, r.run, estimate_rate_, logged_stamps); });
+    folder.write("estimate_" + r.run.name + ".csv", [&](std::ostream& f) {
+      writeEstimates(f, r.run, estimate_rate_, logged_stamps, num_feet);
+    });
     if (tum_) {
       folder.write("estimate_" + r.run.name + ".tum", [&](std::ostream& f) {
         writeTum(f, r.run.trajectory, estimateRows(r.run.trajectory, estimate_rate_),

@@ -78,7 +78,9 @@ class RunCommand {
 
  private:
   CLI::App* command_;
+  CLI::Option* scenario_option_;
   CLI::Option* duration_option_;
+  CLI::Option* seed_option_;
   CLI::Option* settle_option_;
   CLI::Option* rolling_option_;
   std::string scenario_ = "physics-trot";
