@@ -32,6 +32,14 @@ ContactPipeline::ContactPipeline(const LogFrontend& frontend, const PipelineOpti
     throw std::invalid_argument(
         "contact source 'truth': the log has no contact columns (choose a detector)");
   }
+  chain_ = dynamic_cast<const contact::FallbackDetector*>(detector_.get());
+  if (chain_) {
+    for (int k = 0; k < chain_->size(); ++k)
+      diagnostics_.sources.push_back(chain_->detector(k).name());
+  } else {
+    diagnostics_.sources.push_back(source());
+  }
+  decider_.fill(-1);
 }
 
 ContactPipeline::ContactPipeline(const LogFrontend& frontend, const PipelineOptions& options,
@@ -73,6 +81,10 @@ void ContactPipeline::reset() {
   settling_.fill(false);
   // Feet already down at a run's first row are settled.
   touchdown_t_.fill(-std::numeric_limits<double>::infinity());
+  diagnostics_.samples = 0;
+  diagnostics_.num_feet = 0;
+  diagnostics_.feet = {};
+  decider_.fill(-1);
 }
 
 const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const EstimateSample& x,
@@ -98,10 +110,37 @@ const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const E
   for (int foot = 0; foot < contacts_.num_feet; ++foot) {
     const contact::FootContact& c = contacts_.feet[foot];
     const bool down = c.usable() && c.contact;
-    if (down && !down_[foot] && last_stance_t_) touchdown_t_[foot] = row.t;
+    FootContactDiagnostics& d = diagnostics_.feet[foot];
+    if (down && !down_[foot] && last_stance_t_) {
+      touchdown_t_[foot] = row.t;
+      ++d.touchdowns;
+    }
+    d.stance += down ? 1 : 0;
     down_[foot] = down;
     settling_[foot] = settleWeight(row.t - touchdown_t_[foot], options_.settle_time) == 0.0;
+    // Which source decided the foot (an index of diagnostics_.sources, `none` for none), and a
+    // change of it: a hand-over, down the chain when the source that decided before had a problem.
+    const int none = static_cast<int>(diagnostics_.sources.size());
+    const int now = chain_ ? (chain_->source()[foot] < 0 ? none : chain_->source()[foot])
+                           : (c.usable() ? 0 : none);
+    if (now < none) {
+      ++d.decided[now];
+    } else {
+      ++d.undecided;
+    }
+    const int before = decider_[foot];
+    if (before >= 0 && now != before) {
+      ++d.handovers;
+      if (now > before) {
+        ++d.handovers_down;
+        const char* why = chain_ ? chain_->problem(foot, before) : c.problem;
+        if (why != nullptr) d.countProblem(why);
+      }
+    }
+    decider_[foot] = now;
   }
+  ++diagnostics_.samples;
+  diagnostics_.num_feet = contacts_.num_feet;
   if (detector_) {
     input_ = frontend_.input(row, dt, contacts_, options_.soft, &velocities_);
   } else {
@@ -127,6 +166,9 @@ const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const E
   // counts towards its confirmation and its all-feet test); the filter gets the settling ones at
   // p_c = 0: a swing foot's random walk and a measurement covariance that says "ignore it".
   const StepInput& guarded = guard_.apply(input_, x, P, reacted_, &slip_report_);
+  for (int foot = 0; foot < contacts_.num_feet; ++foot) {
+    diagnostics_.feet[foot].slipping += slip_report_.slipping(foot) ? 1 : 0;
+  }
   bool any_settling = false;
   for (const ContactMeasurement& c : guarded.stance()) any_settling |= settling_[c.foot];
   if (!any_settling) return guarded;
@@ -136,6 +178,7 @@ const StepInput& ContactPipeline::step(const io::LogRow& row, double dt, const E
     if (!settling_[c.foot]) continue;
     c.cov = contact::softMeasurementCov(c.cov, 0.0, options_.soft);
     c.probability = 0.0;
+    ++diagnostics_.feet[c.foot].settled;
   }
   return settled_;
 }

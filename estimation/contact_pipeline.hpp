@@ -15,7 +15,9 @@
 // The detector judges with the last estimate and the estimator uses the detection in this step
 // (57.6's chicken-and-egg rule). The pipeline also watches for silence: no foot in stance for
 // longer than no_contact_bound is Fault::kNoContact in its health(), once per such stretch, so
-// that a run whose contact source went quiet (a filter reduced to dead reckoning) says so.
+// that a run whose contact source went quiet (a filter reduced to dead reckoning) says so. And it
+// keeps per-foot diagnostics (diagnostics(), contact_diagnostics.hpp): which detector decided
+// each foot how often, its hand-overs and their problems, stance, touchdowns, settling, slips.
 // Fixed size: step() never allocates (the detector's update() does not either).
 #pragma once
 
@@ -26,7 +28,9 @@
 
 #include "estimation/contact/contact_detector.hpp"
 #include "estimation/contact/detectors.hpp"
+#include "estimation/contact/fallback_detector.hpp"
 #include "estimation/contact/soft_contact.hpp"
+#include "estimation/contact_diagnostics.hpp"
 #include "estimation/estimator.hpp"
 #include "estimation/health.hpp"
 #include "estimation/leg_odometry/rolling_foot.hpp"
@@ -131,6 +135,11 @@ class ContactPipeline {
   const slip::SlipReport& slipReport() const { return slip_report_; }
   // kNoContact counts since reset().
   const Health& health() const { return health_; }
+  // Per-foot diagnostics since reset() (contact_diagnostics.hpp). Its sources: "truth", the
+  // detector's name, or a fallback chain's detectors in order. A single detector "hands over" to
+  // none when it cannot decide a foot; a hand-over down a fallback chain is counted with the
+  // problem of the detector that had decided the foot until then.
+  const ContactDiagnostics& diagnostics() const { return diagnostics_; }
 
  private:
   LogFrontend frontend_;
@@ -152,6 +161,11 @@ class ContactPipeline {
   Health health_;
   std::optional<double> last_stance_t_;  // last row with a stance foot (or the first row)
   bool silent_ = false;                  // the current stretch has been counted
+  const contact::FallbackDetector* chain_ = nullptr;  // detector_, when it is a fallback chain
+  ContactDiagnostics diagnostics_;
+  // Per foot the source that decided it at the last row: an index of diagnostics_.sources, their
+  // count for none, -1 before the first row.
+  std::array<int, contact::kMaxFeet> decider_{};
 };
 
 }  // namespace legkit

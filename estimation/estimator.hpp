@@ -30,6 +30,38 @@ struct BaseCovariance {
   bool has_attitude = true;
 };
 
+// How well a filter's stance-foot measurements fit the covariance it predicts for them, over a
+// run (issue 22 item 3): normalised innovations squared NIS = r^T S^-1 r (r an innovation, S = H
+// P H^T + Cov its covariance), each added with its dimension; in `legkit run`'s filters over
+// windows of a foot's stance (innovation_windows.hpp: why not per sample). For a consistent filter
+// each is chi-square with that many degrees of freedom, so the mean per dimension,
+// nis / dimensions, is about 1; far above it the filter is over-confident, far below over-cautious.
+// Counted only for feet the filter was told are in stance, p_c >= kNisMinProbability: a foot at a
+// lower p_c (touchdown settling, an unsure detector) comes with a covariance that says "mostly
+// ignore me", and its NIS says nothing about the stance settings. A touchdown, which only places
+// the foot, and a gated foot are no update. What each filter counts: its stanceInnovations()
+// (eskf.hpp, invariant_ekf.hpp, linear_kf.hpp). Not the TSIF: its residuals at the prediction
+// need the prediction's 27 x 27 marginal, which more than doubled its step (55 -> 140 us).
+struct InnovationStats {
+  long updates = 0;     // NIS values added (a window, a stacked update)
+  long dimensions = 0;  // the sum of their dimensions (3 per foot)
+  double nis = 0.0;     // the sum of their r^T S^-1 r
+
+  void add(double d2, int dimension) {
+    ++updates;
+    dimensions += dimension;
+    nis += d2;
+  }
+  // nis / dimensions (about 1 when consistent); NaN before the first update.
+  double meanPerDimension() const {
+    return dimensions > 0 ? nis / static_cast<double>(dimensions)
+                          : std::numeric_limits<double>::quiet_NaN();
+  }
+};
+
+// The smallest contact probability whose stance-foot update counts towards InnovationStats.
+constexpr double kNisMinProbability = 0.5;
+
 // Where a filter starts when more is known than a pose (section 57.9: stationary initialisation,
 // estimation/engineering/stationary_init.hpp): the base state, the IMU biases, and how well roll
 // and pitch are known.
@@ -96,6 +128,10 @@ class Estimator {
   virtual std::optional<BaseCovariance> covariance() const { return std::nullopt; }
   // Inputs rejected and recoveries since the last reset() (estimation/health.hpp).
   const Health& health() const { return health_; }
+  // The stance-foot NIS since the last reset() (InnovationStats; kept across the contract's
+  // restarts, a gap or a recovery, as health() is), for the filters that compute it (ESKF, InEKF,
+  // linear KF); none for the others.
+  virtual std::optional<InnovationStats> stanceInnovations() const { return std::nullopt; }
 
  protected:
   // The copies admit() makes, only when a foot is dropped or moved to another slot.
@@ -129,13 +165,16 @@ class Estimator {
   // For reset(): a new health record, and x0 as the last good state.
   void startHealth(const EstimateSample& x0) {
     health_ = Health{};
+    innovations_ = InnovationStats{};
     guard_.reset(x0);
   }
-  // Restarts from x keeping the health record: the gap rule above.
+  // Restarts from x keeping the health record (and the NIS): the gap rule above.
   void restart(const EstimateSample& x) {
     const Health kept = health_;
+    const InnovationStats kept_innovations = innovations_;
     reset(x);
     health_ = kept;
+    innovations_ = kept_innovations;
   }
   // The recovery rule: back to the last good state, at time t, with the prior covariance.
   void recover(double t) {
@@ -147,6 +186,7 @@ class Estimator {
 
   Health health_;
   HealthGuard guard_;
+  InnovationStats innovations_;  // the filters that compute it add to it (stanceInnovations())
 
  private:
   Admitted admitChecked(const StepInput& in, bool has_previous, const InputLimits& limits) {

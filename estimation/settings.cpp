@@ -31,11 +31,32 @@ std::string formatNumber(double x) {
   return std::string(buffer, end);
 }
 
+// A YAML double-quoted scalar that yaml-cpp reads back as exactly `s`: '"' and '\' escaped, and
+// every control character (a raw newline would fold to a space, a raw NUL or tab would change or
+// end the name) as an escape. The reader refuses control characters in names (io::YamlValue::text,
+// file:line:key), so a name that has one is written as it is and refused when read, never read
+// back changed. Bytes from 0x80 up (UTF-8) are written as they are: "\xNN" would mean U+00NN.
 std::string quoted(const std::string& s) {
   std::string out = "\"";
   for (const char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else if (u < 0x20 || u == 0x7f) {
+      const char* hex = "0123456789abcdef";
+      out += "\\x";
+      out += hex[u >> 4];
+      out += hex[u & 0xf];
+    } else {
+      out += c;
+    }
   }
   return out + "\"";
 }
@@ -98,6 +119,23 @@ Node positive(const std::string& key, Ref<double> ref, double hi, const std::str
             ref(s) = x;
           },
           [=](const Settings& s) { return formatNumber(get(ref, s)); }};
+}
+
+// A number, or `auto` (unset) for a value the run derives from the robot.
+Node numberOrAuto(const std::string& key, Ref<std::optional<double>> ref, double lo, double hi,
+                  const std::string& comment) {
+  return {key, comment,
+          [=](Settings& s, const io::YamlValue& v) {
+            if (!v.isMap() && !v.isList() && !v.isNull() && v.text() == "auto") {
+              ref(s).reset();
+            } else {
+              ref(s) = v.number(lo, hi);
+            }
+          },
+          [=](const Settings& s) {
+            const std::optional<double>& x = get(ref, s);
+            return x ? formatNumber(*x) : std::string("auto");
+          }};
 }
 
 Node integer(const std::string& key, Ref<int> ref, int lo, int hi, const std::string& comment) {
@@ -436,7 +474,11 @@ const std::vector<Node>& schema() {
                "foot frames (sites or bodies), in foot-id order"),
            names(
                "joints", [](S& s) -> std::vector<std::string>& { return s.robot.joints; }, nullptr,
-               "model joints in the log's joint<k>_ column order ([]: the hinges in order)")},
+               "model joints in the log's joint<k>_ column order ([]: the hinges in order)"),
+           number(
+               "mass", [](S& s) -> double& { return s.robot.mass; }, 0, 1e4,
+               "the robot's mass, which scales the contact force thresholds; 0: the model's (the "
+               "sum of its bodies'), the built-in Go2's 15.2 kg without a model [kg]")},
           [](const Settings& s, const io::YamlValue& v) {
             if (!s.robot.model.empty() && (s.robot.base.empty() || s.robot.feet.empty())) {
               v.fail("a robot model needs its base body and its feet");
@@ -447,8 +489,9 @@ const std::vector<Node>& schema() {
             for (const auto& [key, given] : named) {
               const std::optional<io::YamlValue> value = v.find(key);
               if (s.robot.model.empty() && given && value) {
-                value->fail("given without robot.model (it names part of that model; the "
-                            "built-in Go2 has its own)");
+                value->fail(
+                    "given without robot.model (it names part of that model; the "
+                    "built-in Go2 has its own)");
               }
             }
           }),
@@ -488,30 +531,42 @@ const std::vector<Node>& schema() {
                         "min_probability",
                         [](S& s) -> double& { return s.pipeline.soft.min_probability; }, 0, 1,
                         "feet below this p_c are not handed to the filters [-]")}),
-           section("schmitt", "The Schmitt trigger on the foot force sensor (detector schmitt)",
-                   {number(
-                        "f_high", [](S& s) -> double& { return s.schmitt.f_high; }, 0, 10000,
-                        "touchdown threshold [N]"),
-                    number(
-                        "f_low", [](S& s) -> double& { return s.schmitt.f_low; }, 0, 10000,
-                        "lift-off threshold, at most f_high [N]"),
+           section("schmitt",
+                   "The Schmitt trigger on the foot force sensor (detector schmitt). A force set "
+                   "to auto is the kit's Go2 design (25 / 10 N, 150 N full scale, -10 N) scaled "
+                   "to the robot's standing foot load, m g / n_feet",
+                   {numberOrAuto(
+                        "f_high", [](S& s) -> std::optional<double>& { return s.schmitt.f_high; },
+                        0, 1e5, "touchdown threshold [N]"),
+                    numberOrAuto(
+                        "f_low", [](S& s) -> std::optional<double>& { return s.schmitt.f_low; }, 0,
+                        1e5, "lift-off threshold, at most f_high [N]"),
                     number(
                         "t_on", [](S& s) -> double& { return s.schmitt.t_on; }, 0, 1,
                         "how long f_high must hold [s]"),
                     number(
                         "t_off", [](S& s) -> double& { return s.schmitt.t_off; }, 0, 1,
                         "how long f_low must hold [s]"),
-                    number(
-                        "saturation", [](S& s) -> double& { return s.schmitt.saturation; }, 1, 1e5,
+                    numberOrAuto(
+                        "saturation",
+                        [](S& s) -> std::optional<double>& { return s.schmitt.saturation; }, 1, 1e6,
                         "the sensor's full scale [N]"),
                     number(
                         "stuck_time", [](S& s) -> double& { return s.schmitt.stuck_time; }, 0, 100,
                         "saturated this long: a stuck sensor [s]"),
-                    number(
-                        "negative_limit", [](S& s) -> double& { return s.schmitt.negative_limit; },
-                        -1e4, 0, "a reading below this is a faulty sensor [N]")},
+                    numberOrAuto(
+                        "negative_limit",
+                        [](S& s) -> std::optional<double>& { return s.schmitt.negative_limit; },
+                        -1e5, 0, "a reading below this is a faulty sensor [N]")},
                    [](const Settings& s, const io::YamlValue& v) {
-                     if (s.schmitt.f_low > s.schmitt.f_high) v.fail("f_low must not exceed f_high");
+                     const SchmittSettings& t = s.schmitt;
+                     if (t.f_low.has_value() != t.f_high.has_value()) {
+                       v.fail("give f_high and f_low together (or neither: auto)");
+                     }
+                     if (t.f_low && *t.f_low > *t.f_high) v.fail("f_low must not exceed f_high");
+                     if (t.saturation && t.f_high && !(*t.saturation > *t.f_high)) {
+                       v.fail("saturation must be above f_high");
+                     }
                    }),
            section("gait",
                    "The robot's planned gait on a recorded log (detector gait-clock; the clock of "
@@ -661,6 +716,13 @@ Settings defaultSettings() {
   s.pipeline.slip = slip::SlipReaction::kInflate;
   s.pipeline.settle_time = kRecommendedSettleTime;
   s.feet.stance_density = kRobotStanceDensity;
+  s.linear_kf.foot_velocity_sigma = kRobotFootVelocitySigma;
+  return s;
+}
+
+Settings withExactLegs(Settings s) {
+  s.feet = FootSettings{};
+  s.linear_kf.foot_velocity_sigma = LinearKfSettings{}.foot_velocity_sigma;
   return s;
 }
 
@@ -707,6 +769,25 @@ std::optional<contact::GaitSchedule> gaitSchedule(const Settings& settings, int 
   schedule.start = g.start;
   schedule.num_feet = num_feet;
   return schedule;
+}
+
+double robotMass(const Settings& settings, const model::LegKinematics* legs) {
+  if (settings.robot.mass > 0.0) return settings.robot.mass;
+  return legs ? legs->mass() : model::QuadrupedInertia::go2().totalMass();
+}
+
+contact::DetectorContext detectorContext(const Settings& settings, double mass, int num_feet) {
+  contact::DetectorContext c;
+  contact::scaleForcesToRobot(c, mass, num_feet);
+  const SchmittSettings& t = settings.schmitt;
+  if (t.f_high) c.schmitt.f_high = *t.f_high;
+  if (t.f_low) c.schmitt.f_low = *t.f_low;
+  if (t.saturation) c.schmitt.saturation = *t.saturation;
+  if (t.negative_limit) c.schmitt.negative_limit = *t.negative_limit;
+  c.schmitt.t_on = t.t_on;
+  c.schmitt.t_off = t.t_off;
+  c.schmitt.stuck_time = t.stuck_time;
+  return c;
 }
 
 std::unique_ptr<Estimator> makeEstimator(const std::string& name, const Settings& s) {

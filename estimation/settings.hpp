@@ -21,6 +21,7 @@
 #include "estimation/log_frontend.hpp"
 #include "model/imu_extrinsic.hpp"
 #include "model/imu_noise.hpp"
+#include "model/leg_kinematics.hpp"
 
 namespace legkit {
 
@@ -30,7 +31,18 @@ struct RobotSettings {
   std::string base;               // the base body's name in that model
   std::vector<std::string> feet;  // foot frames (sites or bodies), in foot-id order
   std::vector<std::string>
-      joints;  // model joints in joint<k>_ column order (empty: hinges in order)
+      joints;         // model joints in joint<k>_ column order (empty: hinges in order)
+  double mass = 0.0;  // [kg]; 0: the model's (the sum of its bodies'), the Go2's without a model
+};
+
+// The Schmitt trigger on the foot sensor (contact.schmitt). Forces left unset are the robot's:
+// the kit's Go2 design scaled to its weight (contact::scaleForcesToRobot).
+struct SchmittSettings {
+  std::optional<double> f_high, f_low;   // touchdown and lift-off thresholds [N]
+  std::optional<double> saturation;      // the sensor's full scale [N]
+  std::optional<double> negative_limit;  // a reading below it is a faulty sensor [N]
+  double t_on = 0.005, t_off = 0.005;    // [s] (go2SchmittParams)
+  double stuck_time = 1.0;               // [s]
 };
 
 // The prior at reset of every filter with that state (standard deviations, per axis).
@@ -61,6 +73,21 @@ struct PriorSettings {
 // kit's physics only; the iCub's settings set their own 9e-3, and the real Go1 trot kept outside
 // the kit wanted 0.05 when tuned on itself: 0.01 is a floor for a rubber foot, not a fit.
 constexpr double kRobotStanceDensity = 0.01;
+
+// A robot's leg-velocity noise in the linear KF [m/s per axis]: LinearKfSettings' value in
+// defaultSettings(). The filter's own 0.005 is the encoders' differentiated noise on exact legs;
+// a robot's stance foot also rolls, compresses and creeps (the real Go1's legs read its speed 14 %
+// short, 0.07 m/s at 0.5 m/s). Measured with `legkit run --scenario S --config F`, F setting only
+// estimators: [linear-kf] and linear_kf.foot_velocity_sigma, 0.005 -> 0.05 (position RMSE [m],
+// ANEES):
+//   physics-trot  0.236, 75.8  ->  0.207, 36.2      physics-turn  0.114, 26.9  ->  0.103, 14.7
+//   physics-real  0.086, 16.5  ->  0.081,  7.9      physics-walk  0.164, 47.7  ->  0.100, 13.0
+//   the iCub log (config/robots/icub.yaml with it set): 0.032, 3.20 -> 0.032, 1.02
+// Larger helps the quadruped further (0.5: trot 0.175 m, ANEES 3.0) and leaves the iCub
+// under-confident (0.1: ANEES 0.63; 0.2: 0.42): 0.05 is where none of the five is. What keeps the
+// quadruped's ANEES above 1 is not in its stance-foot innovations (their NIS per dimension is
+// 0.12 at 0.05, over-cautious): it is the attitude the linear KF takes from its own filter.
+constexpr double kRobotFootVelocitySigma = 0.05;
 
 struct FootSettings {
   double stance_density = 1e-3;  // [m/sqrt(s)] a stance foot's slip allowance
@@ -128,8 +155,8 @@ struct Settings {
   // `legkit run`'s on physics and recorded logs): the fallback detector chain, slips inflated,
   // 80 ms touchdown settling; the library's PipelineOptions{} keeps the log's flags.
   PipelineOptions pipeline;
-  contact::SchmittParams schmitt = contact::go2SchmittParams();
-  GaitSettings gait;  // contact.gait
+  SchmittSettings schmitt;  // contact.schmitt
+  GaitSettings gait;        // contact.gait
   engineering::GatingParams gating;
   engineering::StationaryInitParams initialisation;
   engineering::MonitorParams monitors;
@@ -141,9 +168,13 @@ struct Settings {
 };
 
 // The kit's defaults for a robot, those of `legkit run` on a physics scenario or a recorded log:
-// every estimator's own defaults but the stance feet's slip allowance (kRobotStanceDensity), and
-// the pipeline (the fallback detector chain, slips inflated, touchdown settling).
+// every estimator's own defaults but the stance feet's slip allowance (kRobotStanceDensity) and
+// the linear KF's leg-velocity noise (kRobotFootVelocitySigma), and the pipeline (the fallback
+// detector chain, slips inflated, touchdown settling).
 Settings defaultSettings();
+// The settings with the estimators' own leg noise (feet, the linear KF's leg velocity), for legs
+// known exactly: the analytic simulator's (`legkit run --scenario trot`, the NEES studies).
+Settings withExactLegs(Settings settings);
 // Reads a settings file. Keys left out keep their defaults; a relative robot.model is taken
 // relative to the file's folder. Throws io::ConfigError naming the
 // file, the line and the key for an unknown key, a wrong type or an out-of-range value.
@@ -158,6 +189,12 @@ std::string settingsYaml(const Settings& settings);
 // 0. Throws std::invalid_argument naming contact.gait.offsets (and the settings' file) when the
 // offsets are not one per foot.
 std::optional<contact::GaitSchedule> gaitSchedule(const Settings& settings, int num_feet);
+// The robot's mass [kg]: robot.mass when given, else the model's (legs; null: the built-in Go2).
+double robotMass(const Settings& settings, const model::LegKinematics* legs);
+// What the contact detectors know of a robot of `mass` [kg] on `num_feet` feet: every force
+// threshold scaled to its weight (contact::scaleForcesToRobot), then the forces contact.schmitt
+// sets, and its times. The built-in Go2 gets the kit's Go2 design unchanged.
+contact::DetectorContext detectorContext(const Settings& settings, double mass, int num_feet);
 // An estimator of estimatorNames() with its parameters from the settings: the IMU densities, the
 // limits, the priors, the feet and its own section. Throws std::invalid_argument for an unknown
 // name (listing the known ones).

@@ -44,12 +44,6 @@ std::string filterName(const Settings& s) {
   return s.estimators.empty() ? std::string("invariant-ekf") : s.estimators.front();
 }
 
-contact::DetectorContext detectorContext(const Settings& s) {
-  contact::DetectorContext c;
-  c.schmitt = s.schmitt;
-  return c;
-}
-
 [[noreturn]] void bad(double t, const std::string& what) {
   std::ostringstream os;
   os.precision(17);
@@ -90,7 +84,7 @@ StateEstimator::StateEstimator(const Settings& settings, std::size_t history, do
       extrinsic_(settings.imu_extrinsic),
       estimator_(makeEstimator(filterName(settings), settings)),
       pipeline_(frontendOf(layout_, legs_.get(), settings), settings.pipeline,
-                detectorContext(settings)),
+                detectorContext(settings, robotMass(settings, legs_.get()), layout_.num_feet)),
       init_params_(settings.initialisation),
       init_(settings.initialisation),
       monitor_(settings.monitors, layout_.num_feet, imu_period),

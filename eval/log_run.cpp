@@ -42,12 +42,13 @@ RunResult runWithSettings(const io::Log& recorded, const Settings& settings,
   const std::unique_ptr<model::LegKinematics> legs = logLegs(log.layout, settings.robot);
   const LogFrontend frontend =
       logFrontend(log.layout, legs.get(), settings.frontend, settings.imu_extrinsic);
-  contact::DetectorContext with_gait = context;
-  if (!with_gait.gait) {
-    with_gait.gait = gaitSchedule(settings, legs ? legs->numFeet() : log.layout.num_feet);
-  }
-  if (options.contact == "gait-clock" && !with_gait.gait) throw std::invalid_argument(noGait());
-  ContactPipeline pipeline(frontend, options, with_gait);
+  const int num_feet = legs ? legs->numFeet() : log.layout.num_feet;
+  contact::DetectorContext robot =
+      detectorContext(settings, robotMass(settings, legs.get()), num_feet);
+  robot.gait = context.gait ? context.gait : gaitSchedule(settings, num_feet);
+  robot.logistic = context.logistic;
+  if (options.contact == "gait-clock" && !robot.gait) throw std::invalid_argument(noGait());
+  ContactPipeline pipeline(frontend, options, robot);
   const std::unique_ptr<Estimator> e = makeEstimator(estimator, settings);
   const double window = settings.truth_velocity_window;
   RunResult run = runOnLog(*e, log, pipeline, x0 ? *x0 : initialState(log, window), window);

@@ -34,8 +34,9 @@ std::string noGait();
 
 // One estimator over a whole recorded log as `legkit run --log F --config S` runs it: the time
 // base checked (std::invalid_argument naming the row), the settings' front end (stamps, joint
-// velocities), noise, limits, contact pipeline on `context` (its gait, when it has none, from
-// the settings' contact.gait), robot and IMU extrinsic, from x0 (default: initialState), a
+// velocities), noise, limits, contact pipeline (the detectors' forces scaled to the robot's
+// weight, then the settings' own: detectorContext; the gait and the logistic model of `context`,
+// the gait when it has none from the settings' contact.gait), robot and IMU extrinsic, from x0 (default: initialState), a
 // pose-only truth differentiated over frontend.truth_velocity_window. The trajectory keeps the
 // log's own stamps, as the estimate files do (the estimator ran on the conditioned ones), so that
 // it lines up with the log row for row.

@@ -118,6 +118,7 @@ RunResult runRows(Estimator& estimator, const io::Log& log, const model::ImuExtr
     }
   }
   result.health = estimator.health();
+  result.stance_nis = estimator.stanceInnovations();
   result.us_per_step = steps == 0 ? 0.0 : busy.count() / static_cast<double>(steps);
   return result;
 }
@@ -170,6 +171,7 @@ RunResult runOnLog(Estimator& estimator, const io::Log& log, ContactPipeline& pi
   result.detected_contact = std::move(detected);
   result.slip = std::move(slip);
   result.slip_reaction = slip::slipReactionName(pipeline.options().slip);
+  result.contact_diagnostics = pipeline.diagnostics();
   result.pipeline_us_per_step = steps == 0 ? 0.0 : busy.count() / static_cast<double>(steps);
   for (int f = 0; f < static_cast<int>(Fault::kCount); ++f) {
     result.health.count[f] += pipeline.health().count[f];

@@ -75,7 +75,13 @@ struct RunResult {
   std::vector<std::array<bool, contact::kMaxFeet>> given_contact;
   std::vector<SlipSummary> slip;  // per row (same rows), whatever the reaction
   std::string slip_reaction;      // "none", "inflate", "drop" or "imu-only"
+  // Per foot, who decided its contact, hand-overs, stance, settling, slips (no sources: no
+  // pipeline).
+  ContactDiagnostics contact_diagnostics;
   double pipeline_us_per_step = 0;
+  // The estimator's stance-foot NIS over the run (Estimator::stanceInnovations(); none for an
+  // estimator without one).
+  std::optional<InnovationStats> stance_nis;
   std::optional<RunFailure> failure;  // set when the run stopped early
 
   bool failed() const { return failure.has_value(); }

@@ -1,4 +1,4 @@
-// libFuzzer target for the log reader (tools/fuzz-log-reader.sh builds and runs it).
+// libFuzzer target for the log reader (tools/fuzz-reader.sh log builds and runs it).
 //
 // Whatever the bytes, readLog either throws LogError or returns a Log; nothing else may happen
 // (no other exception, no crash, no sanitizer report), and a LogError's message is short and

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "io/input_file.hpp"
 #include "io/log_error.hpp"
 
 namespace legkit::io {
@@ -185,6 +186,7 @@ HartleyLog parseHartleyLog(std::istream& in, const std::string& name) {
 }
 
 HartleyLog readHartleyLog(const std::string& path) {
+  if (const std::string why = notARegularFile(path); !why.empty()) throw LogError(path, 0, "", why);
   std::ifstream in(path);
   if (!in) throw LogError(path, 0, "", "cannot open the file");
   return parseHartleyLog(in, path);

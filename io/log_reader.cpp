@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "io/csv_text.hpp"
+#include "io/input_file.hpp"
 #include "io/log_columns.hpp"
 #include "io/log_error.hpp"
 
@@ -475,6 +476,7 @@ Log readLog(std::istream& in, const std::string& source, const ReadOptions& opti
 }
 
 Log readLog(const std::string& path, const ReadOptions& options) {
+  if (const std::string why = notARegularFile(path); !why.empty()) throw LogError(path, 0, "", why);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw LogError(path, 0, "", "cannot open the file for reading");
   std::error_code error;

@@ -1,5 +1,8 @@
 #include "io/yaml_reader.hpp"
 
+#include "io/input_file.hpp"
+
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -25,6 +28,40 @@ std::string formatNumber(double x) {
   return ec == std::errc() ? std::string(buffer, end) : std::to_string(x);
 }
 
+// Where each document of a stream starts; the parse events themselves are not kept.
+struct DocumentStarts : YAML::EventHandler {
+  std::vector<YAML::Mark> starts;
+  void OnDocumentStart(const YAML::Mark& mark) override { starts.push_back(mark); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
+
+// Refuses, before yaml-cpp builds any node, a ',' outside a list or a map at the top level (",a",
+// "[a],b"): on that yaml-cpp 0.7's LoadAll parses an empty document without consuming the ',' and
+// loops forever, allocating a document per turn (found by fuzz/settings_fuzz.cpp). Such a
+// document starts where the previous one did; every other document moves on, so this ends.
+void checkDocuments(const std::string& text, const std::string& file) {
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  DocumentStarts documents;
+  while (parser.HandleNextDocument(documents)) {
+    const auto& s = documents.starts;
+    if (s.size() >= 2 && s[s.size() - 1].pos == s[s.size() - 2].pos) {
+      throw ConfigError(file + ":" + std::to_string(s.back().line + 1) +
+                        ": YAML syntax: a ',' outside a [list] or a {map}");
+    }
+  }
+}
+
 }  // namespace
 
 YamlValue::YamlValue(std::shared_ptr<const YAML::Node> node, std::string file, std::string path)
@@ -33,6 +70,7 @@ YamlValue::YamlValue(std::shared_ptr<const YAML::Node> node, std::string file, s
 YamlValue YamlValue::parse(const std::string& text, const std::string& file) {
   std::vector<YAML::Node> documents;
   try {
+    checkDocuments(text, file);
     documents = YAML::LoadAll(text);
   } catch (const YAML::Exception& e) {
     throw ConfigError(file + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax: " + e.msg);
@@ -49,15 +87,19 @@ YamlValue YamlValue::parse(const std::string& text, const std::string& file) {
 }
 
 YamlValue YamlValue::parseFile(const std::string& path) {
-  std::error_code ec;  // a directory opens as an empty stream: it would read as no keys at all
-  if (std::filesystem::is_directory(path, ec)) {
-    throw ConfigError(path + ": is a directory, not a settings file");
+  // A directory opens as an empty stream (it would read as no keys at all), a FIFO blocks in
+  // open(), /dev/zero never ends: regular files only, and at most 16 MiB of them.
+  if (const std::string why = notARegularFile(path); !why.empty()) {
+    throw ConfigError(path + ": " + why + " (a settings file is a regular file)");
   }
-  std::ifstream in(path);
-  std::ostringstream text;
-  if (in) text << in.rdbuf();
-  if (!in || in.bad()) throw ConfigError(path + ": cannot be read");
-  return parse(text.str(), path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(path + ": cannot be read");
+  std::string text;
+  if (!readAtMost(in, kMaxTextFileBytes, text)) {
+    throw ConfigError(path + ": " + tooLarge("settings file"));
+  }
+  if (in.bad()) throw ConfigError(path + ": cannot be read");
+  return parse(text, path);
 }
 
 YamlValue YamlValue::child(const YAML::Node& node, const std::string& path) const {

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -310,11 +311,31 @@ struct VfsDeleter {
 // MuJoCo's model of `path`. A URDF goes through a virtual file under the same path, so that
 // MuJoCo still finds its meshes relative to the file's directory.
 MjModelPtr load(const std::string& path) {
+  // Regular files only, and at most 16 MiB of them: a directory fails on its first read without
+  // the path, a FIFO blocks in open(), /dev/zero never ends (the same checks as io/input_file.hpp,
+  // which this layer cannot include).
+  namespace fs = std::filesystem;
+  std::error_code ignored;
+  const fs::file_status status = fs::status(path, ignored);
+  if (fs::is_directory(status)) fail(path, "is a directory, not a file");
+  if (fs::exists(status) && !fs::is_regular_file(status)) {
+    fail(path, "is not a regular file (a device, a FIFO or a socket)");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open the file (no such file, or not readable)");
-  std::ostringstream text;
-  text << in.rdbuf();
-  std::string xml = text.str();
+  constexpr std::size_t kMaxBytes = std::size_t{16} << 20;
+  std::string xml;
+  char buffer[1 << 16];
+  while (in) {
+    in.read(buffer, sizeof buffer);
+    const auto n = static_cast<std::size_t>(in.gcount());
+    if (n > kMaxBytes - xml.size()) {
+      fail(path, "is larger than the 16 MiB (" + std::to_string(kMaxBytes) +
+                     " bytes) a robot model may be; nothing beyond that is read");
+    }
+    xml.append(buffer, n);
+  }
+  if (in.bad()) fail(path, "read error");
   char error[1000] = "";
   MjModelPtr m;
   std::string warnings;

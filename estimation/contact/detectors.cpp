@@ -1,6 +1,8 @@
 #include "estimation/contact/detectors.hpp"
 
+#include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "estimation/contact/fallback_detector.hpp"
 #include "estimation/contact/gait_clock.hpp"
@@ -11,6 +13,29 @@ std::vector<std::string> detectorNames() {
   return {"gait-clock",    "grf-threshold",  "grf-threshold-torque",
           "schmitt",       "schmitt-torque", "momentum-observer",
           "probabilistic", "kinematic",      "fallback"};
+}
+
+void scaleForcesToRobot(DetectorContext& c, double mass, int num_feet) {
+  if (!(mass > 0.0 && std::isfinite(mass))) {
+    throw std::invalid_argument("the robot's mass must be positive and finite");
+  }
+  if (num_feet < 1 || num_feet > kMaxFeet) {
+    throw std::invalid_argument("a robot of " + std::to_string(num_feet) + " feet (1 to " +
+                                std::to_string(kMaxFeet) + ")");
+  }
+  // s = (m g / n) / (m_go2 g / 4): the robot's standing foot load in units of the Go2's
+  const double s = (mass / num_feet) / (model::QuadrupedInertia::go2().totalMass() / 4.0);
+  for (SchmittParams* p : {&c.schmitt, &c.schmitt_torque}) {
+    p->f_high *= s;
+    p->f_low *= s;
+    p->saturation *= s;
+    p->negative_limit *= s;
+  }
+  c.grf.threshold *= s;
+  c.grf.saturation *= s;
+  c.grf.negative_limit *= s;
+  c.momentum.threshold *= s;
+  c.momentum.release *= s;
 }
 
 std::unique_ptr<ContactDetector> makeDetector(const std::string& name, const DetectorContext& c) {

@@ -64,6 +64,16 @@ struct DetectorContext {
 std::unique_ptr<ContactDetector> makeDetector(const std::string& name,
                                               const DetectorContext& context);
 
+// The force thresholds of every force-reading detector (schmitt, grf, momentum) are a design for
+// the kit's 15.2 kg Go2: 25 / 10 N of go2SchmittParams are two thirds and a quarter of the 37 N one
+// foot carries while it stands on four. A foot sensor's full scale and noise grow with the load
+// it is built for, so another robot's are the same fractions of its own standing foot load,
+// m g / n_feet: the iCub of data/icub-walking (33.1 kg on 2 feet, 162 N) gets 109 / 44 N and a
+// 653 N full scale (its paper used 150 / 120 N); the 74.6 kg B2 gets 123 / 49 N. The built-in
+// Go2's context is returned unchanged (its load is the reference). Throws std::invalid_argument
+// unless mass > 0 (finite) and 1 <= num_feet <= kMaxFeet.
+void scaleForcesToRobot(DetectorContext& context, double mass, int num_feet);
+
 // The names makeDetector knows, in the order above.
 std::vector<std::string> detectorNames();
 

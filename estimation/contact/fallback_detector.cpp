@@ -25,6 +25,7 @@ void FallbackDetector::reset() {
   for (const std::unique_ptr<ContactDetector>& d : order_) d->reset();
   reports_ = FallbackReports{};
   source_.fill(-1);
+  problems_ = {};
   ran_prev_.fill(true);
 }
 
@@ -38,6 +39,7 @@ ContactEstimate FallbackDetector::update(const ContactSignals& signals) {
   for (int i = 0; i < signals.num_feet; ++i) {
     pending[i] = true;
     source_[i] = -1;
+    problems_[i].fill(nullptr);
   }
   int num_pending = signals.num_feet;
   const int n = size();
@@ -62,6 +64,7 @@ ContactEstimate FallbackDetector::update(const ContactSignals& signals) {
           continue;
         }
         ++reports_.failed[i][k];
+        problems_[i][k] = a.problem;
         const FallbackReport r{i, signals.t, k, a.problem};
         if (reports_.first.problem == nullptr) reports_.first = r;
         reports_.last = r;

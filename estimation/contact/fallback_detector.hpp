@@ -68,6 +68,9 @@ class FallbackDetector : public ContactDetector {
   const FallbackReports& reports() const { return reports_; }
   // Which detector of the chain answered each foot at the last update (-1: none could).
   const std::array<int, kMaxFeet>& source() const { return source_; }
+  // The problem detector k had with `foot` at the last update, nullptr when it answered the foot
+  // or was not asked (a detector before it answered).
+  const char* problem(int foot, int k) const { return problems_[foot][k]; }
   int size() const { return static_cast<int>(order_.size()); }
   const ContactDetector& detector(int k) const { return *order_.at(k); }
 
@@ -76,6 +79,7 @@ class FallbackDetector : public ContactDetector {
   std::string name_;
   FallbackReports reports_;
   std::array<int, kMaxFeet> source_{};
+  std::array<std::array<const char*, kMaxChain>, kMaxFeet> problems_{};  // of the last update
   // Whether detector k ran at the previous sample (true after construction and reset(): a fresh
   // detector needs no reset).
   std::array<bool, kMaxChain> ran_prev_{};

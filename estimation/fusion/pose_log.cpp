@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "io/csv_text.hpp"
+#include "io/input_file.hpp"
 #include "io/log_error.hpp"
 
 namespace legkit::fusion {
@@ -80,7 +81,10 @@ Problem checkPose(const PoseMeasurement& z, double previous_t, bool has_previous
       }
     }
   }
-  if (Eigen::LLT<Matrix6d>(z.cov).info() != Eigen::Success) {
+  // Eigen reports success for a factor that overflowed to inf or NaN (entries near 1e300): a
+  // finite factor is part of positive definite here, as in estimation/health_guard.cpp.
+  const Eigen::LLT<Matrix6d> llt(z.cov);
+  if (llt.info() != Eigen::Success || !llt.matrixLLT().allFinite()) {
     return {"c00",
             "expected a positive definite covariance (c00..c55 fail a Cholesky factorisation)"};
   }
@@ -224,6 +228,9 @@ std::vector<PoseMeasurement> readPoseLog(std::istream& in, const std::string& so
 }
 
 std::vector<PoseMeasurement> readPoseLog(const std::string& path) {
+  if (const std::string why = io::notARegularFile(path); !why.empty()) {
+    throw LogError(path, 0, "", why);
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw LogError(path, 0, "", "cannot open the file for reading");
   return readPoseLog(in, path);

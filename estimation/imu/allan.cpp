@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "io/csv_text.hpp"
+#include "io/input_file.hpp"
 #include "io/log_error.hpp"
 #include "io/log_reader.hpp"
 
@@ -251,6 +252,9 @@ ImuRecording readPlain(std::istream& in, const std::string& path, std::size_t he
 }  // namespace
 
 ImuRecording readImuRecording(const std::string& path) {
+  if (const std::string why = io::notARegularFile(path); !why.empty()) {
+    throw io::LogError(path, 0, "", why);
+  }
   std::ifstream in(path);
   if (!in) throw io::LogError(path, 0, "", "cannot open the file");
   std::string text;

@@ -129,6 +129,7 @@ void Eskf::reset(const EstimateSample& x0) {
   probability_.fill(0.0);
   slots_.reset();
   gate_.reset();
+  nis_windows_.reset();
   startHealth(x0);
   t_ = x0.t;
   previous_ = model::ImuReading{};
@@ -216,6 +217,7 @@ Eskf::Update Eskf::updateFoot(int i, const ContactMeasurement& c, double t, Vect
     if (decision == engineering::FootGate::Decision::kGate) return Update::kGated;
     if (decision == engineering::FootGate::Decision::kReinitialise) return Update::kReinitialise;
   }
+  if (c.probability >= kNisMinProbability) nis_windows_.add(i, r, S, innovations_);
   Matrix27x3 K = PHt.lazyProduct(llt.solve(Matrix3::Identity()));
   if (!params_.feet_correct_yaw) {
     // The heading stays the gyro's (file comment): K <- (I - E) K. E K is the heading row
@@ -345,6 +347,7 @@ void Eskf::step(const StepInput& raw) {
     }
   }
   if (updated) inject(dx);
+  nis_windows_.endStep(innovations_);
 
   std::array<bool, kFeet> stance{};
   std::array<double, kFeet> probability{};

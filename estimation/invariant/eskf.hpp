@@ -119,6 +119,7 @@
 #include "estimation/foot_slots.hpp"
 #include "estimation/fusion/delayed_pose.hpp"
 #include "estimation/fusion/pose_measurement.hpp"
+#include "estimation/innovation_windows.hpp"
 #include "estimation/invariant/nominal_state.hpp"
 #include "lie/so3.hpp"
 #include "model/imu_model.hpp"
@@ -189,6 +190,9 @@ class Eskf final : public Estimator {
   EstimateSample estimate() const override;
   // The (dtheta_w, dv, dp) block of P with the attitude error mapped to the world frame.
   std::optional<BaseCovariance> covariance() const override;
+  // NIS: windows (innovation_windows.hpp) of the foot updates of p_c >= kNisMinProbability that
+  // were used, each with its sequential innovation r and S.
+  std::optional<InnovationStats> stanceInnovations() const override { return innovations_; }
   // The pose z (world = map frame) as a measurement of the base pose, applied to the current
   // state whatever z.t (DelayedFilter applies it at its stamp). File comment: "Pose update".
   // Throws std::invalid_argument naming the field and z.t for a non-finite pose or a covariance
@@ -211,6 +215,7 @@ class Eskf final : public Estimator {
 
   EskfParams params_;
   engineering::FootGate gate_;
+  InnovationWindows nis_windows_;  // the stance-foot NIS (stanceInnovations())
   double pose_gate_;  // chi-square quantile of 6 dof for the pose innovation (file comment)
   FootSlots<eskf::kFeet> slots_;  // foot ids of the log -> this filter's foot states
   eskf::State x_;

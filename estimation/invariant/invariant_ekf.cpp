@@ -150,6 +150,7 @@ void InvariantEkf::reset(const EstimateSample& x0) {
   has_previous_ = false;
   slots_.reset();
   gate_.reset();
+  nis_windows_.reset();
   replace_.fill(false);
   startHealth(x0);
 
@@ -294,6 +295,7 @@ void InvariantEkf::propagateCovariance(const inekf::Transition& Phi, double dt) 
 void InvariantEkf::correct(const StepInput& in) {
   const Matrix3 R_predicted = X_.R();  // before this sample's correction
   withFeet(numFeet(), [&](auto feet) { correctHeldFeet<decltype(feet)::value>(in); });
+  nis_windows_.endStep(innovations_);
   std::array<bool, inekf::kMaxFeet> stance{};
   for (const ContactMeasurement& c : in.stance()) stance[c.foot] = true;
   for (int foot = 0; foot < inekf::kMaxFeet; ++foot) {
@@ -350,6 +352,7 @@ void InvariantEkf::correctHeldFeet(const StepInput& in) {
         continue;
       }
     }
+    if (c.probability >= kNisMinProbability) nis_windows_.add(c.foot, nu, S, innovations_);
     const Eigen::Matrix<double, D, 3> W = U * C_inv.transpose();
     if (params_.feet_correct_yaw) {
       delta += W * nu_white;

@@ -110,6 +110,7 @@
 #include "estimation/foot_slots.hpp"
 #include "estimation/fusion/delayed_pose.hpp"
 #include "estimation/fusion/pose_measurement.hpp"
+#include "estimation/innovation_windows.hpp"
 #include "lie/sek3.hpp"
 #include "model/imu_model.hpp"
 #include "model/imu_noise.hpp"
@@ -215,6 +216,9 @@ class InvariantEkf final : public Estimator {
   EstimateSample estimate() const override;
   // The (dtheta, dv, dp) block in the BaseCovariance convention (file comment).
   std::optional<BaseCovariance> covariance() const override;
+  // NIS: windows (innovation_windows.hpp) of the held feet's corrections of p_c >=
+  // kNisMinProbability that were used, each with its sequential innovation nu and S.
+  std::optional<InnovationStats> stanceInnovations() const override { return innovations_; }
   // The pose z (world = map frame) as a measurement of X's pose, applied to the current state
   // whatever z.t (DelayedFilter applies it at its stamp). File comment: "Pose update". Throws
   // std::invalid_argument naming the field and z.t for a non-finite pose or a covariance that is
@@ -251,6 +255,7 @@ class InvariantEkf final : public Estimator {
 
   InvariantEkfParams params_;
   engineering::FootGate gate_;
+  InnovationWindows nis_windows_;  // the stance-foot NIS (stanceInnovations())
   double pose_gate_;  // chi-square quantile of 6 dof for the pose innovation (file comment)
   std::array<bool, inekf::kMaxFeet> replace_{};  // gated too long: re-added after the correction
   FootSlots<inekf::kMaxFeet> slots_;  // foot ids of the log -> this filter's foot columns

@@ -29,10 +29,18 @@ struct Stack {
   int blocks = 0;
 };
 
+// Per block of a stacked update, its innovation and the marginal of its innovation covariance.
+struct BlockInnovations {
+  std::array<Eigen::Vector3d, kFeet + 1> y;
+  std::array<Eigen::Matrix3d, kFeet + 1> S;
+};
+
 // One update with all M = 3 * stack.blocks rows and the full R (linear_kf.hpp), fixed-size.
-// False (nothing changed) when S does not factorise.
+// False (nothing changed) when S does not factorise; else each block's innovation y_b and its
+// marginal S_bb in *blocks (the stance-foot NIS).
 template <int M>
-bool stackedUpdate(Vector18& x, Matrix18& P, const Stack& st, const Eigen::Matrix3d& Sigma_theta) {
+bool stackedUpdate(Vector18& x, Matrix18& P, const Stack& st, const Eigen::Matrix3d& Sigma_theta,
+                   BlockInnovations* blocks) {
   constexpr int kBlocks = M / 3;
   // H_b picks rows (of x, of N) or columns (of P): d_i - p for a foot, v for the velocity.
   const auto rowsOf = [&](int b, const auto& A) {
@@ -59,6 +67,10 @@ bool stackedUpdate(Vector18& x, Matrix18& P, const Stack& st, const Eigen::Matri
   }
   const Eigen::LLT<Eigen::Matrix<double, M, M>> llt(S);
   if (llt.info() != Eigen::Success) return false;  // the contract: the update is skipped
+  for (int b = 0; b < kBlocks; ++b) {
+    blocks->y[b] = y.template segment<3>(3 * b);
+    blocks->S[b] = S.template block<3, 3>(3 * b, 3 * b);
+  }
   const Eigen::Matrix<double, kDim, M> K = llt.solve(N.transpose()).transpose();  // N S^-1
   x.noalias() += K.lazyProduct(y);
   josephUpdate(P, K, N, S);
@@ -179,6 +191,7 @@ void LinearKf::reset(const EstimateSample& x0) {
   t_ = x0.t;
   slots_.reset();
   gate_.reset();
+  nis_windows_.reset();
   startHealth(x0);
 }
 
@@ -342,21 +355,44 @@ bool LinearKf::updateStance(const StepInput& in, const Eigen::Vector3d* w_m,
     }
   }
   // Fixed-size matrices for each possible number of rows (kMaxRows = 15 at most).
+  BlockInnovations nis;
+  bool done = true;
   switch (st.blocks) {
     case 0:
+      nis_windows_.endStep(innovations_);
       return true;
     case 1:
-      return stackedUpdate<3>(x_, P_, st, Sigma_theta);
+      done = stackedUpdate<3>(x_, P_, st, Sigma_theta, &nis);
+      break;
     case 2:
-      return stackedUpdate<6>(x_, P_, st, Sigma_theta);
+      done = stackedUpdate<6>(x_, P_, st, Sigma_theta, &nis);
+      break;
     case 3:
-      return stackedUpdate<9>(x_, P_, st, Sigma_theta);
+      done = stackedUpdate<9>(x_, P_, st, Sigma_theta, &nis);
+      break;
     case 4:
-      return stackedUpdate<12>(x_, P_, st, Sigma_theta);
+      done = stackedUpdate<12>(x_, P_, st, Sigma_theta, &nis);
+      break;
     default:
       static_assert(kMaxRows == 15, "one case per number of blocks");
-      return stackedUpdate<15>(x_, P_, st, Sigma_theta);
+      done = stackedUpdate<15>(x_, P_, st, Sigma_theta, &nis);
   }
+  // The run's NIS (stanceInnovations(), innovation_windows.hpp): the foot blocks of p_c >=
+  // kNisMinProbability. A foot touching down (in swing at the previous sample) has the swing
+  // walk's variance, metres: its rows only place it, and are left out.
+  if (done) {
+    int b = 0;
+    for (std::size_t j = 0; j < stance.size(); ++j) {
+      if (!used[j]) continue;
+      const ContactMeasurement& c = stance[j];
+      if (previous_contact_[c.foot] && c.probability >= kNisMinProbability) {
+        nis_windows_.add(c.foot, nis.y[b], nis.S[b], innovations_);
+      }
+      ++b;
+    }
+  }
+  nis_windows_.endStep(innovations_);
+  return done;
 }
 
 engineering::FootGate::Decision LinearKf::gateBlock(int id, const Eigen::Vector3d& y,

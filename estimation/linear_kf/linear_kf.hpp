@@ -101,6 +101,7 @@
 #include "estimation/engineering/gating.hpp"
 #include "estimation/estimator.hpp"
 #include "estimation/foot_slots.hpp"
+#include "estimation/innovation_windows.hpp"
 #include "estimation/linear_kf/attitude_filter.hpp"
 #include "model/imu_model.hpp"
 #include "model/imu_noise.hpp"
@@ -236,6 +237,9 @@ class LinearKf final : public Estimator {
   void step(const StepInput& in) override;
   EstimateSample estimate() const override;
   std::optional<BaseCovariance> covariance() const override;
+  // NIS: windows of each foot block of the stacked update (innovation_windows.hpp; not the
+  // leg-odometry velocity), y_i and its marginal S_ii, p_c >= kNisMinProbability.
+  std::optional<InnovationStats> stanceInnovations() const override { return innovations_; }
 
   const Vector18& x() const { return x_; }
   const Matrix18& P() const { return P_; }
@@ -259,7 +263,8 @@ class LinearKf final : public Estimator {
 
   LinearKfParams params_;
   engineering::FootGate gate_;
-  FootSlots<kFeet> slots_;  // foot ids of the log -> this filter's foot states
+  InnovationWindows nis_windows_;  // the stance-foot NIS (stanceInnovations())
+  FootSlots<kFeet> slots_;         // foot ids of the log -> this filter's foot states
   AttitudeFilter attitude_;
   Vector18 x_ = Vector18::Zero();
   Eigen::Vector3d a_w_ = Eigen::Vector3d::Zero();  // low-passed world acceleration of the base

@@ -423,8 +423,8 @@ void bindEstimators(py::module_& m) {
          const std::optional<contact::LogisticModel>& model, unsigned training_seed) {
         Settings settings = given ? *given : defaultSettings();
         if (contact) settings.pipeline.contact = *contact;
-        contact::DetectorContext context;
-        context.schmitt = settings.schmitt;
+        contact::DetectorContext
+            context;  // forces: the settings' and the robot's (runWithSettings)
         context.gait = gait;
         context.logistic = model;
         const std::vector<std::string> which = names                         ? *names

@@ -61,7 +61,7 @@ void bindSim(py::module_& m) {
         // As `legkit run --scenario` runs it: the front end told the simulator's own sensor
         // noise (so that NEES measures the filters, not a mismatched model); the analytic
         // scenarios keep their true contact flags, with no slip check, rolling foot or settling,
-        // and the estimators' stance density (exact legs).
+        // and the estimators' own leg noise (exact legs).
         Settings s = defaultSettings();
         if (tools::isPhysicsScenario(scenario)) {
           sim::PhysicsOptions options = sim::PhysicsOptions::forScenario(scenario);
@@ -77,14 +77,13 @@ void bindSim(py::module_& m) {
         s.pipeline.slip = slip::SlipReaction::kNone;
         s.pipeline.rolling_foot = false;
         s.pipeline.settle_time = 0.0;
-        s.feet = FootSettings{};  // exact legs: the estimators' own stance density
-        return s;
+        return withExactLegs(s);  // the estimators' own leg noise
       },
       py::arg("scenario") = "trot", py::arg("seed") = 1,
       "The settings `legkit run --scenario NAME` runs a simulated log with: the kit's defaults, "
       "the front end told the simulator's sensor noise, and on the analytic scenarios the true "
       "contact flags (no detector, slip check, rolling foot or settling) and the estimators' own "
-      "stance density (exact legs)");
+      "leg noise (exact legs)");
 }
 
 }  // namespace legkit::python

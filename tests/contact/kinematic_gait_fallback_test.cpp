@@ -78,9 +78,11 @@ TEST_CASE("gait clock: a foot the schedule does not know is a problem", "[57.6]"
 namespace {
 
 // A robot standing at base height 0.3 m, four feet under the hips with their sphere centres
-// 0.278 m below the base (contact point at z = 0 with the 0.022 m radius).
+// 0.278 m below the base (contact point at z = 0 with the 0.022 m radius); the accelerometer reads
+// gravity's reaction.
 ContactSignals standing() {
   ContactSignals s;
+  s.acc = Eigen::Vector3d(0.0, 0.0, 9.81);
   s.base.valid = true;
   s.base.p = Eigen::Vector3d(0, 0, 0.3);
   const double x[4] = {0.19, 0.19, -0.19, -0.19}, y[4] = {0.14, -0.14, 0.14, -0.14};
@@ -160,15 +162,22 @@ TEST_CASE("kinematic detector: z_ground follows the judged-down feet, re-anchors
   ContactSignals s = standing();
   s.dt = 0.001;
   d.update(s);
-  // The base estimate's height drifts up by 2 cm: the feet (still judged down: 2 cm < 3 cm)
-  // pull z_ground along with time constant 0.1 s: after 0.5 s within 1 - e^-5 of it.
-  s.base.p.z() += 0.02;
+  // The base estimate's height and velocity do not enter: a 1 m height error and a 0.5 m/s
+  // velocity error change nothing.
+  s.base.p.z() += 1.0;
+  s.base.v = Eigen::Vector3d(0.5, 0.0, -0.3);
+  CHECK(contacts(d.update(s)) == std::array<bool, 4>{true, true, true, true});
+  CHECK(d.groundHeight() == Approx(0.0).margin(1e-12));
+  // The feet read 2 cm higher under the base with no leg velocity (an offset, not a motion): the
+  // feet (still judged down: 2 cm < 3 cm) pull z_ground along with time constant 0.1 s: after
+  // 0.5 s within 1 - e^-5 of it.
+  for (int i = 0; i < 4; ++i) s.feet[i].p_body.z() += 0.02;
   for (int k = 0; k < 500; ++k) CHECK(d.update(s).feet[0].contact);
   CHECK(d.groundHeight() == Approx(0.02 * (1.0 - std::pow(0.1 / 0.101, 500))).epsilon(1e-9));
   CHECK(d.groundHeight() > 0.0198);
-  // The whole robot steps 5 cm down: nothing is within 3 cm of z_ground; the still feet re-anchor
-  // it and are down from the next sample on.
-  s.base.p.z() -= 0.05;
+  // The legs reach 5 cm lower at once (the whole robot stepped down): nothing is within 3 cm of
+  // z_ground; the still feet re-anchor it and are down from the next sample on.
+  for (int i = 0; i < 4; ++i) s.feet[i].p_body.z() -= 0.05;
   CHECK(contacts(d.update(s)) == std::array<bool, 4>{false, false, false, false});
   CHECK(d.groundHeight() == Approx(-0.03).margin(1e-12));
   CHECK(contacts(d.update(s)) == std::array<bool, 4>{true, true, true, true});

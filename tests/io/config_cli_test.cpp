@@ -5,8 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "scratch_folder.hpp"
-#include "spawn.hpp"
+#include "legkit_cli.hpp"
 
 namespace fs = std::filesystem;
 
@@ -17,15 +16,8 @@ using legkit::test::slurp;
 
 using Result = legkit::test::ProgramResult;
 
-// Runs legkit with `arguments` inside `dir`.
-Result runLegkit(const fs::path& dir, std::vector<std::string> arguments) {
-  arguments.insert(arguments.begin(), LEGKIT_EXE);
-  return legkit::test::runProgram(dir, arguments);
-}
-
-void write(const fs::path& path, const std::string& text) {
-  std::ofstream(path) << text;
-}
+using legkit::test::runLegkit;
+using legkit::test::writeFile;
 
 }  // namespace
 
@@ -39,7 +31,8 @@ TEST_CASE("legkit config: --print is config/legkit.yaml, --check names the line"
   CHECK(r.status == 0);
   CHECK(r.output == "ok\n");
 
-  write(dir.path / "bad.yaml", "imu:\n  gyro_noise_density: 0.004\n  accel_noise_density: -1\n");
+  writeFile(dir.path / "bad.yaml",
+            "imu:\n  gyro_noise_density: 0.004\n  accel_noise_density: -1\n");
   r = runLegkit(dir.path, {"config", "--check", "bad.yaml"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("bad.yaml:3: imu.accel_noise_density: expected a number"));
@@ -51,7 +44,8 @@ TEST_CASE("legkit config: --print is config/legkit.yaml, --check names the line"
   CHECK_FALSE(fs::exists(dir.path / "legkit-out"));
 
   // A robot model for a log whose legs are the quadruped's joint columns: refused, naming the key.
-  write(dir.path / "robot.yaml", "robot:\n  model: biped.xml\n  base: pelvis\n  feet: [l, r]\n");
+  writeFile(dir.path / "robot.yaml",
+            "robot:\n  model: biped.xml\n  base: pelvis\n  feet: [l, r]\n");
   r = runLegkit(dir.path, {"run", "--scenario", "trot", "--duration", "1", "--no-plots", "--config",
                            "robot.yaml"});
   CHECK(r.status == 2);
@@ -63,9 +57,9 @@ TEST_CASE("legkit config: --print is config/legkit.yaml, --check names the line"
 TEST_CASE("legkit run --config: the file picks the estimators, the command line overrides",
           "[cli]") {
   const legkit::test::ScratchFolder dir("config_run");
-  write(dir.path / "two.yaml",
-        "estimators: [invariant-ekf, linear-kf]\n"
-        "contact:\n  detector: truth\n  slip_reaction: none\n  settle_time: 0\n");
+  writeFile(dir.path / "two.yaml",
+            "estimators: [invariant-ekf, linear-kf]\n"
+            "contact:\n  detector: truth\n  slip_reaction: none\n  settle_time: 0\n");
   Result r = runLegkit(dir.path, {"run", "--scenario", "trot", "--duration", "2", "--no-plots",
                                   "--config", "two.yaml", "--slip", "drop", "--out", "out"});
   CHECK(r.status == 0);
@@ -86,14 +80,15 @@ TEST_CASE("legkit config --check loads the robot model; legkit robot shows it", 
   const legkit::test::ScratchFolder dir("config_cli_robot");
   // A model that is not there, and a foot the model does not have: the check says so (exit 2), as
   // the run would, naming the settings file and the model.
-  write(dir.path / "missing.yaml", "robot:\n  model: nowhere.urdf\n  base: trunk\n  feet: [f]\n");
+  writeFile(dir.path / "missing.yaml",
+            "robot:\n  model: nowhere.urdf\n  base: trunk\n  feet: [f]\n");
   Result r = runLegkit(dir.path, {"config", "--check", "missing.yaml"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("missing.yaml: robot.model: robot model '") &&
                            Contains("nowhere.urdf") && Contains("cannot open the file"));
   const std::string go1 = LEGKIT_SOURCE_DIR "/data/robots/unitree/go1.urdf";
-  write(dir.path / "nofoot.yaml",
-        "robot:\n  model: " + go1 + "\n  base: trunk\n  feet: [FL_foot, toe]\n");
+  writeFile(dir.path / "nofoot.yaml",
+            "robot:\n  model: " + go1 + "\n  base: trunk\n  feet: [FL_foot, toe]\n");
   r = runLegkit(dir.path, {"config", "--check", "nofoot.yaml"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("no site or body named 'toe' for a foot"));

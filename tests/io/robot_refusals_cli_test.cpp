@@ -9,8 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "scratch_folder.hpp"
-#include "spawn.hpp"
+#include "legkit_cli.hpp"
 
 namespace fs = std::filesystem;
 
@@ -19,14 +18,8 @@ namespace {
 using Catch::Matchers::Contains;
 using Result = legkit::test::ProgramResult;
 
-Result runLegkit(const fs::path& dir, std::vector<std::string> arguments) {
-  arguments.insert(arguments.begin(), LEGKIT_EXE);
-  return legkit::test::runProgram(dir, arguments);
-}
-
-void write(const fs::path& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
-}
+using legkit::test::runLegkit;
+using legkit::test::writeFile;
 
 // A two-hinge leg: base -> thigh (hip) -> calf (knee) -> foot (fixed); `hip_origin` is the hip
 // joint's origin xyz, `extra` goes before </robot>.
@@ -77,7 +70,7 @@ std::string genericLog(int joints, int feet) {
 // `legkit run` on leg.csv (a log of the leg's joints) says the same.
 void checkModelRefused(const fs::path& dir, const std::string& yaml, const std::string& what) {
   INFO(yaml);
-  write(dir / "r.yaml", yaml);
+  writeFile(dir / "r.yaml", yaml);
   Result r = runLegkit(dir, {"config", "--check", "r.yaml"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("r.yaml: robot.model: ") && Contains(what));
@@ -90,21 +83,21 @@ void checkModelRefused(const fs::path& dir, const std::string& yaml, const std::
 
 TEST_CASE("config --check refuses the robot models legkit run refuses", "[cli][settings]") {
   const legkit::test::ScratchFolder dir("robot_refusals_model");
-  write(dir.path / "leg.csv", genericLog(2, 1));
-  write(dir.path / "leg.urdf", legUrdf());
-  write(dir.path / "r.yaml", robotYaml("leg.urdf"));
+  writeFile(dir.path / "leg.csv", genericLog(2, 1));
+  writeFile(dir.path / "leg.urdf", legUrdf());
+  writeFile(dir.path / "r.yaml", robotYaml("leg.urdf"));
   Result r = runLegkit(dir.path, {"config", "--check", "r.yaml"});
   CHECK(r.status == 0);
   CHECK(r.output == "ok\n");
 
   checkModelRefused(dir.path, robotYaml("missing.urdf"), "cannot open the file");
-  write(dir.path / "cut.urdf", "<robot name=\"r\"><link name=\"base\"");
+  writeFile(dir.path / "cut.urdf", "<robot name=\"r\"><link name=\"base\"");
   checkModelRefused(dir.path, robotYaml("cut.urdf"), "MuJoCo cannot load it: XML parse error");
-  write(dir.path / "empty.urdf", "");
+  writeFile(dir.path / "empty.urdf", "");
   checkModelRefused(dir.path, robotYaml("empty.urdf"), "MuJoCo cannot load it");
-  write(dir.path / "binary.urdf", std::string("\x7f"
-                                              "ELF\x02\x01\x01\0\0\xff\xfe",
-                                              12));
+  writeFile(dir.path / "binary.urdf", std::string("\x7f"
+                                                  "ELF\x02\x01\x01\0\0\xff\xfe",
+                                                  12));
   checkModelRefused(dir.path, robotYaml("binary.urdf"), "MuJoCo cannot load it");
   checkModelRefused(dir.path, robotYaml("leg.urdf", "trunk"), "no body named 'trunk' for the base");
   checkModelRefused(dir.path, robotYaml("leg.urdf", "base", "[toe]"),
@@ -116,12 +109,12 @@ TEST_CASE("config --check refuses the robot models legkit run refuses", "[cli][s
 
   std::string free = legUrdf();
   free.replace(free.find("revolute"), 8, "floating");
-  write(dir.path / "free.urdf", free);
+  writeFile(dir.path / "free.urdf", free);
   checkModelRefused(dir.path, robotYaml("free.urdf"), "free joint can only be used on top level");
-  write(dir.path / "loop.urdf",
-        legUrdf("0.1 0 0",
-                "  <joint name=\"loop\" type=\"revolute\"><parent link=\"base\"/>"
-                "<child link=\"calf\"/><axis xyz=\"0 1 0\"/></joint>\n"));
+  writeFile(dir.path / "loop.urdf",
+            legUrdf("0.1 0 0",
+                    "  <joint name=\"loop\" type=\"revolute\"><parent link=\"base\"/>"
+                    "<child link=\"calf\"/><axis xyz=\"0 1 0\"/></joint>\n"));
   checkModelRefused(dir.path, robotYaml("loop.urdf"), "URDF body has multiple parents");
 
   std::string chain = "<robot name=\"chain\">\n  <link name=\"base\"/>\n";
@@ -131,23 +124,24 @@ TEST_CASE("config --check refuses the robot models legkit run refuses", "[cli][s
              "\" type=\"continuous\"><parent link=\"" + parent + "\"/><child link=\"l" +
              std::to_string(k) + "\"/><axis xyz=\"0 1 0\"/></joint>\n";
   }
-  write(dir.path / "chain.urdf", chain + "</robot>\n");
+  writeFile(dir.path / "chain.urdf", chain + "</robot>\n");
   checkModelRefused(dir.path, robotYaml("chain.urdf", "base", "[l32]"),
                     "32 hinge and slide joints below the base 'base', the kit handles at most");
 
-  write(dir.path / "part.xml", "<mujoco/>\n");
-  write(dir.path / "include.xml",
-        "<mujoco><include file=\"part.xml\"/><worldbody><body name=\"base\"><body name=\"b\">"
-        "<joint name=\"h\"/><geom size=\".1\"/><site name=\"foot\"/></body></body></worldbody>"
-        "</mujoco>\n");
+  writeFile(dir.path / "part.xml", "<mujoco/>\n");
+  writeFile(dir.path / "include.xml",
+            "<mujoco><include file=\"part.xml\"/><worldbody><body name=\"base\"><body name=\"b\">"
+            "<joint name=\"h\"/><geom size=\".1\"/><site name=\"foot\"/></body></body></worldbody>"
+            "</mujoco>\n");
   checkModelRefused(dir.path, robotYaml("include.xml"), "Empty include file 'part.xml'");
   // An external entity (XXE): never read, refused where it stands for a number.
   std::string xxe = legUrdf();
   xxe.replace(xxe.find("<link name=\"thigh\"/>"), 20,
               "<link name=\"thigh\"><inertial><mass value=\"&x;\"/></inertial></link>");
-  write(dir.path / "xxe.urdf",
-        "<?xml version=\"1.0\"?>\n<!DOCTYPE robot [<!ENTITY x SYSTEM \"file:///etc/passwd\">]>\n" +
-            xxe);
+  writeFile(
+      dir.path / "xxe.urdf",
+      "<?xml version=\"1.0\"?>\n<!DOCTYPE robot [<!ENTITY x SYSTEM \"file:///etc/passwd\">]>\n" +
+          xxe);
   checkModelRefused(dir.path, robotYaml("xxe.urdf"),
                     "line 5, link 'thigh': <mass value=\"&x;\">: expected finite numbers");
 }
@@ -155,14 +149,14 @@ TEST_CASE("config --check refuses the robot models legkit run refuses", "[cli][s
 TEST_CASE("robots that loaded wrong are refused, naming the file and the joint or key",
           "[cli][settings]") {
   const legkit::test::ScratchFolder dir("robot_refusals_robot");
-  write(dir.path / "leg.csv", genericLog(2, 1));
+  writeFile(dir.path / "leg.csv", genericLog(2, 1));
 
   // A NaN in a joint origin: MuJoCo reads it as 0.
-  write(dir.path / "nan.urdf", legUrdf("nan 0 0"));
+  writeFile(dir.path / "nan.urdf", legUrdf("nan 0 0"));
   checkModelRefused(dir.path, robotYaml("nan.urdf"),
                     "robot model 'nan.urdf': line 6, joint 'hip': <origin xyz=\"nan 0 0\">: "
                     "expected finite numbers");
-  write(dir.path / "word.urdf", legUrdf("0.1 zero 0"));
+  writeFile(dir.path / "word.urdf", legUrdf("0.1 zero 0"));
   checkModelRefused(dir.path, robotYaml("word.urdf"), "joint 'hip': <origin xyz=\"0.1 zero 0\">");
 
   // In an MJCF: MuJoCo warns about a "nan" (and writes MUJOCO_LOG.TXT here) and takes an "inf".
@@ -171,34 +165,34 @@ TEST_CASE("robots that loaded wrong are refused, naming the file and the joint o
            "\"><joint name=\"hip\"/><geom size=\".1\"/><site name=\"foot\"/></body></body>"
            "</worldbody></mujoco>\n";
   };
-  write(dir.path / "nan.xml", mjcf("nan 0 0"));
+  writeFile(dir.path / "nan.xml", mjcf("nan 0 0"));
   checkModelRefused(dir.path, robotYaml("nan.xml"), "MuJoCo warns: XML contains a 'NaN'");
   CHECK_FALSE(fs::exists(dir.path / "MUJOCO_LOG.TXT"));
-  write(dir.path / "inf.xml", mjcf("0 inf 0"));
+  writeFile(dir.path / "inf.xml", mjcf("0 inf 0"));
   checkModelRefused(dir.path, robotYaml("inf.xml"),
                     "body 'thigh': a number that is not finite (NaN or inf in the file)");
 
   // Feet on one leg: a foot below another, in either order.
-  write(dir.path / "leg.urdf", legUrdf());
+  writeFile(dir.path / "leg.urdf", legUrdf());
   checkModelRefused(dir.path, robotYaml("leg.urdf", "base", "[foot, calf]"),
                     "feet 'foot' and 'calf' are on one leg");
   checkModelRefused(dir.path, robotYaml("leg.urdf", "base", "[thigh, foot]"),
                     "feet 'thigh' and 'foot' are on one leg");
 
   // A NUL in a foot name: "foot\0x" would be "foot" to MuJoCo.
-  write(dir.path / "nul.yaml", robotYaml("leg.urdf", "base", "[\"foot\\0x\"]"));
+  writeFile(dir.path / "nul.yaml", robotYaml("leg.urdf", "base", "[\"foot\\0x\"]"));
   Result r = runLegkit(dir.path, {"config", "--check", "nul.yaml"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output,
              Contains("nul.yaml:4: robot.feet[0]: expected text without control characters"));
-  write(dir.path / "tab.yaml", robotYaml("leg.urdf", "\"base\\t\""));
+  writeFile(dir.path / "tab.yaml", robotYaml("leg.urdf", "\"base\\t\""));
   r = runLegkit(dir.path, {"config", "--check", "tab.yaml"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("tab.yaml:3: robot.base: expected text without control"));
 
   // robot.base, robot.feet or robot.joints without robot.model: the built-in Go2 has its own.
   for (const std::string key : {"base: base", "feet: [foot]", "joints: [hip]"}) {
-    write(dir.path / "nomodel.yaml", "robot:\n  " + key + "\n");
+    writeFile(dir.path / "nomodel.yaml", "robot:\n  " + key + "\n");
     r = runLegkit(dir.path, {"config", "--check", "nomodel.yaml"});
     CHECK(r.status == 2);
     CHECK_THAT(r.output, Contains("nomodel.yaml:2: robot." + key.substr(0, key.find(':')) +
@@ -206,13 +200,13 @@ TEST_CASE("robots that loaded wrong are refused, naming the file and the joint o
   }
 
   // A log whose joint or foot count is not the robot's.
-  write(dir.path / "r.yaml", robotYaml("leg.urdf"));
-  write(dir.path / "three.csv", genericLog(3, 1));
+  writeFile(dir.path / "r.yaml", robotYaml("leg.urdf"));
+  writeFile(dir.path / "three.csv", genericLog(3, 1));
   r = runLegkit(dir.path, {"run", "--log", "three.csv", "--config", "r.yaml", "--no-plots"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output,
              Contains("r.yaml: robot.joints: 2 joints, three.csv has 3 (joint<k>_q columns)"));
-  write(dir.path / "twofeet.csv", genericLog(2, 2));
+  writeFile(dir.path / "twofeet.csv", genericLog(2, 2));
   r = runLegkit(dir.path, {"run", "--log", "twofeet.csv", "--config", "r.yaml", "--no-plots"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("r.yaml: robot.feet: 1 feet, twofeet.csv has 2"));
@@ -238,24 +232,25 @@ TEST_CASE("settings files refused instead of read as something else", "[cli][set
   CHECK_FALSE(fs::exists(dir.path / "legkit-out"));
 
   // A second document after ---: refused at its line; a leading --- is one document.
-  write(dir.path / "two.yaml",
-        "imu:\n  gyro_noise_density: 0.001\n---\nimu:\n  gyro_noise_density: 0.5\n");
+  writeFile(dir.path / "two.yaml",
+            "imu:\n  gyro_noise_density: 0.001\n---\nimu:\n  gyro_noise_density: 0.5\n");
   r = runLegkit(dir.path, {"config", "--check", "two.yaml"});
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("two.yaml:4: a second YAML document"));
-  write(dir.path / "one.yaml", "---\nimu:\n  gyro_noise_density: 0.001\n");
+  writeFile(dir.path / "one.yaml", "---\nimu:\n  gyro_noise_density: 0.001\n");
   r = runLegkit(dir.path, {"config", "--check", "one.yaml"});
   CHECK(r.status == 0);
 
   // Zero white-noise densities (the filters refuse them later, naming neither file nor key); a
   // zero bias random walk (a constant bias) stays allowed.
   for (const std::string key : {"gyro_noise_density", "accel_noise_density"}) {
-    write(dir.path / "zero.yaml", "imu:\n  " + key + ": 0\n");
+    writeFile(dir.path / "zero.yaml", "imu:\n  " + key + ": 0\n");
     r = runLegkit(dir.path, {"config", "--check", "zero.yaml"});
     CHECK(r.status == 2);
     CHECK_THAT(r.output, Contains("zero.yaml:2: imu." + key + ": expected a number in (0, "));
   }
-  write(dir.path / "walk.yaml", "imu:\n  gyro_bias_random_walk: 0\n  accel_bias_random_walk: 0\n");
+  writeFile(dir.path / "walk.yaml",
+            "imu:\n  gyro_bias_random_walk: 0\n  accel_bias_random_walk: 0\n");
   r = runLegkit(dir.path, {"config", "--check", "walk.yaml"});
   CHECK(r.status == 0);
 }

@@ -10,6 +10,7 @@
 #include "eval/log_run.hpp"
 #include "eval/metrics.hpp"
 #include "io/yaml_reader.hpp"
+#include "settings_error.hpp"
 #include "sim/simulator.hpp"
 
 using namespace legkit;
@@ -17,14 +18,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-std::string errorOf(const std::string& text) {
-  try {
-    settingsFromYaml(text, "t.yaml");
-  } catch (const io::ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
+constexpr auto errorOf = test::settingsErrorOf;
 
 io::Log trot() {
   sim::SimOptions options;

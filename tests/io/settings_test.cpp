@@ -12,6 +12,7 @@
 #include "estimation/settings.hpp"
 #include "eval/runner.hpp"
 #include "io/yaml_reader.hpp"
+#include "settings_error.hpp"
 #include "sim/simulator.hpp"
 
 namespace legkit {
@@ -19,15 +20,7 @@ namespace {
 
 using Catch::Matchers::Contains;
 
-// The error settingsFromYaml() throws for `text` (named t.yaml), or "" when it reads.
-std::string errorOf(const std::string& text) {
-  try {
-    settingsFromYaml(text, "t.yaml");
-  } catch (const io::ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
+constexpr auto errorOf = test::settingsErrorOf;
 
 // A short analytic trot, its inputs on the log's true flags and its initial state.
 struct Trot {
@@ -58,12 +51,13 @@ std::pair<EstimateSample, std::optional<BaseCovariance>> runTrot(Estimator& e) {
 
 }  // namespace
 
-TEST_CASE("settings: the defaults are every estimator's own but a robot's stance density",
+TEST_CASE("settings: the defaults are every estimator's own but a robot's leg noise",
           "[settings]") {
-  // The one difference: a robot's stance feet (kRobotStanceDensity), not exact legs'.
-  Settings exact_legs = defaultSettings();
-  CHECK(exact_legs.feet.stance_density == kRobotStanceDensity);
-  exact_legs.feet.stance_density = FootSettings{}.stance_density;
+  // The one difference: a robot's stance feet and leg velocities (kRobotStanceDensity,
+  // kRobotFootVelocitySigma), not exact legs' (withExactLegs).
+  CHECK(defaultSettings().feet.stance_density == kRobotStanceDensity);
+  CHECK(defaultSettings().linear_kf.foot_velocity_sigma == kRobotFootVelocitySigma);
+  const Settings exact_legs = withExactLegs(defaultSettings());
   for (const std::string& name : estimatorNames()) {
     CAPTURE(name);
     const auto plain = makeEstimator(name);
@@ -142,7 +136,7 @@ TEST_CASE("settings: settingsYaml reads back to the same settings", "[settings]"
   s.priors.foot_init_sigma = 0.5;
   s.feet.swing_density = 3.0;
   s.linear_kf.use_leg_velocity = false;
-  s.linear_kf.foot_velocity_sigma = 0.05;
+  s.linear_kf.foot_velocity_sigma = 0.08;
   s.invariant_ekf.discretisation = invariant::inekf::Discretisation::kFirstOrder;
   s.tsif.iterations = 2;
   s.frontend.foot_point_sigma = 0.01;
@@ -152,6 +146,8 @@ TEST_CASE("settings: settingsYaml reads back to the same settings", "[settings]"
   s.pipeline.slip = slip::SlipReaction::kDrop;
   s.pipeline.soft.min_probability = 0.2;
   s.schmitt.f_high = 40.0;
+  s.schmitt.f_low = 15.0;
+  s.robot.mass = 20.5;
   s.gating.enabled = true;
   s.initialisation.duration = 3.0;
   s.monitors.velocity_sigma_max = 2.0;
@@ -167,7 +163,50 @@ TEST_CASE("settings: settingsYaml reads back to the same settings", "[settings]"
   CHECK(back.pipeline.slip == slip::SlipReaction::kDrop);
   CHECK(back.linear_kf.use_leg_velocity == false);
   CHECK(back.tsif.iterations == 2);
+  CHECK(back.schmitt.f_low == 15.0);
+  CHECK_FALSE(back.schmitt.saturation.has_value());  // auto, written and read as auto
+  CHECK(back.robot.mass == 20.5);
   CHECK(back.source == "changed.yaml");
+}
+
+TEST_CASE("settings: contact forces scale to the robot's weight unless given", "[settings]") {
+  const Settings d = defaultSettings();
+  const double m_go2 = model::QuadrupedInertia::go2().totalMass();
+  CHECK(robotMass(d, nullptr) == m_go2);
+  // The built-in Go2 keeps the kit's Go2 design exactly.
+  const contact::DetectorContext go2 = detectorContext(d, m_go2, 4);
+  const contact::SchmittParams design = contact::go2SchmittParams();
+  CHECK(go2.schmitt.f_high == design.f_high);
+  CHECK(go2.schmitt.f_low == design.f_low);
+  CHECK(go2.schmitt.saturation == design.saturation);
+  CHECK(go2.grf.threshold == contact::GrfThresholdParams{}.threshold);
+  CHECK(go2.momentum.threshold == contact::MomentumObserverParams{}.threshold);
+  // Twice the load a foot: twice the forces (twice the mass on four feet, or the mass on two).
+  for (const auto& [mass, feet] : {std::pair{2 * m_go2, 4}, std::pair{m_go2, 2}}) {
+    const contact::DetectorContext c = detectorContext(d, mass, feet);
+    CHECK(c.schmitt.f_high == Approx(2 * design.f_high).epsilon(1e-14));
+    CHECK(c.schmitt.f_low == Approx(2 * design.f_low).epsilon(1e-14));
+    CHECK(c.schmitt.saturation == Approx(2 * design.saturation).epsilon(1e-14));
+    CHECK(c.schmitt.negative_limit == Approx(2 * design.negative_limit).epsilon(1e-14));
+    CHECK(c.schmitt_torque.f_high == Approx(2 * contact::SchmittParams{}.f_high).epsilon(1e-14));
+    CHECK(c.grf.threshold == Approx(2 * contact::GrfThresholdParams{}.threshold).epsilon(1e-14));
+    CHECK(c.momentum.release ==
+          Approx(2 * contact::MomentumObserverParams{}.release).epsilon(1e-14));
+    CHECK(c.schmitt.t_on == design.t_on);  // times do not scale
+  }
+  // What the file gives wins; robot.mass replaces the model's.
+  const Settings s = settingsFromYaml(
+      "robot:\n  mass: 60\ncontact:\n  schmitt:\n    f_high: 150\n    f_low: 120\n"
+      "    saturation: auto\n    t_on: 0.01\n",
+      "t.yaml");
+  CHECK(robotMass(s, nullptr) == 60.0);
+  const contact::DetectorContext c = detectorContext(s, robotMass(s, nullptr), 2);
+  CHECK(c.schmitt.f_high == 150.0);
+  CHECK(c.schmitt.f_low == 120.0);
+  CHECK(c.schmitt.saturation == Approx(design.saturation * (60.0 / 2) / (m_go2 / 4)));
+  CHECK(c.schmitt.t_on == 0.01);
+  CHECK_THROWS_WITH(detectorContext(d, 0.0, 4), Contains("mass must be positive"));
+  CHECK_THROWS_WITH(detectorContext(d, m_go2, 0), Contains("a robot of 0 feet"));
 }
 
 TEST_CASE("settings: config/legkit.yaml is what `legkit config --print` writes", "[settings]") {
@@ -185,7 +224,7 @@ TEST_CASE("settings: keys left out keep their defaults; other spellings", "[sett
       "t.yaml");
   CHECK(s.imu.gyro_noise_density == 0.01);
   CHECK(s.imu.accel_noise_density == defaultSettings().imu.accel_noise_density);
-  CHECK(s.schmitt.f_high == defaultSettings().schmitt.f_high);
+  CHECK_FALSE(s.schmitt.f_high.has_value());  // auto: the robot's
   CHECK(s.pipeline.contact == "fallback");
   const Eigen::Vector3d x_base = s.imu_extrinsic.q_BI * Eigen::Vector3d::UnitX();
   CHECK(x_base.isApprox(Eigen::Vector3d::UnitY(), 1e-12));  // yaw 90 deg: IMU x is base y
@@ -253,6 +292,13 @@ TEST_CASE("settings: every bad value names its file, line and key", "[settings]"
              Contains("t.yaml:3: gating.enabled: key given twice"));
   CHECK_THAT(errorOf("contact:\n  schmitt:\n    f_high: 10\n    f_low: 20\n"),
              Contains("t.yaml:3: contact.schmitt: f_low must not exceed f_high"));
+  CHECK_THAT(errorOf("contact:\n  schmitt:\n    f_high: 40\n"),
+             Contains("t.yaml:3: contact.schmitt: give f_high and f_low together"));
+  CHECK_THAT(errorOf("contact:\n  schmitt:\n    f_high: 40\n    f_low: 10\n    saturation: 30\n"),
+             Contains("contact.schmitt: saturation must be above f_high"));
+  CHECK_THAT(errorOf("contact:\n  schmitt:\n    f_high: automatic\n    f_low: 1\n"),
+             Contains("t.yaml:3: contact.schmitt.f_high: expected a number"));
+  CHECK_THAT(errorOf("robot:\n  mass: -1\n"), Contains("t.yaml:2: robot.mass: expected a number"));
   CHECK_THAT(
       errorOf("imu:\n  extrinsic:\n    rotation: [1, 0, 0, 0]\n    rotation_rpy_deg: [0, 0, 0]\n"),
       Contains("t.yaml:3: imu.extrinsic: give rotation or rotation_rpy_deg, not both"));

@@ -15,7 +15,7 @@
 
 #include "io/log_reader.hpp"
 #include "io/log_writer.hpp"
-#include "scratch_folder.hpp"
+#include "legkit_cli.hpp"
 #include "sim/simulator.hpp"
 #include "spawn.hpp"
 
@@ -28,11 +28,7 @@ using legkit::test::slurp;
 
 using Result = legkit::test::ProgramResult;
 
-// Runs legkit with `arguments` inside `dir`.
-Result runLegkit(const fs::path& dir, std::vector<std::string> arguments) {
-  arguments.insert(arguments.begin(), LEGKIT_EXE);
-  return legkit::test::runProgram(dir, arguments);
-}
+using legkit::test::runLegkit;
 
 }  // namespace
 
@@ -510,7 +506,8 @@ TEST_CASE("cli: the main job runs on detected contacts and scores the detector",
                            "none; rolling foot: off; touchdown settling: off"));
   CHECK_THAT(slurp(dir.path / "truth" / "summary.json"),
              Catch::Matchers::Contains("\"settle_time_s\": 0.0"));
-  // One estimator's scores line each when the detector reads the estimate (kinematic).
+  // One estimator's scores line each when the detector reads the estimate (kinematic: its roll
+  // and pitch).
   r = runLegkit(dir.path, {"run", "--duration", "2.5", "--no-plots", "--out", "kin", "--contact",
                            "kinematic"});
   CHECK(r.status == 0);

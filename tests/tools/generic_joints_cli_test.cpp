@@ -14,29 +14,18 @@
 
 #include "io/log_reader.hpp"
 #include "io/log_writer.hpp"
+#include "legkit_cli.hpp"
 #include "model/mjcf.hpp"
 #include "model/quadruped.hpp"
 #include "model/quadruped_inertia.hpp"
-#include "scratch_folder.hpp"
-#include "spawn.hpp"
 
 namespace fs = std::filesystem;
 using namespace legkit;
 
 namespace {
 
-int runLegkit(const fs::path& dir, std::vector<std::string> arguments, std::string& output) {
-  const fs::path file = dir / "cli-output.txt";
-  arguments.insert(arguments.begin(), LEGKIT_EXE);
-  const int status = test::spawnAndWait(arguments, dir.string(), file.string());
-  output = test::slurp(file);
-  return status;
-}
-
-nlohmann::json summary(const fs::path& out) {
-  std::ifstream in(out / "summary.json");
-  return nlohmann::json::parse(in);
-}
+using test::runLegkit;
+constexpr auto summary = test::readSummary;
 
 }  // namespace
 

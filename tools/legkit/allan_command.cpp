@@ -18,10 +18,7 @@ namespace fs = std::filesystem;
 
 // value in %.<digits>g, "-" for NaN.
 std::string number(double value, int digits = 4) {
-  if (std::isnan(value)) return "-";
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.*g", digits, value);
-  return text;
+  return formatG(value, digits);
 }
 
 // A Go2 IMU (model::ImuNoise::go2()) lying level and still, through the kit's sensor model.

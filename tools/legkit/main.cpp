@@ -17,6 +17,7 @@
 #include "config_command.hpp"
 #include "lie_accuracy.hpp"
 #include "robot_command.hpp"
+#include "tune_command.hpp"
 #include "run_command.hpp"
 #include "sim_command.hpp"
 #include "tour.hpp"
@@ -76,6 +77,7 @@ int main(int argc, char** argv) {
   legkit::tools::AllanCommand allan(app);
   legkit::tools::ConfigCommand config(app);
   legkit::tools::RobotCommand robot(app);
+  legkit::tools::TuneCommand tune(app);
 
   try {
     app.parse(argc, argv);
@@ -93,6 +95,7 @@ int main(int argc, char** argv) {
     if (allan.parsed()) return allan.run(std::cout);
     if (config.parsed()) return config.run(std::cout);
     if (robot.parsed()) return robot.run(std::cout);
+    if (tune.parsed()) return tune.run(std::cout);
   } catch (const UsageError& e) {  // e.g. an unknown leg or a malformed --dropout
     std::cerr << "legkit: " << e.what() << "\n";
     return kExitUsage;

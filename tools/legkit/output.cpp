@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -133,6 +135,13 @@ void OutputFolder::writeManifest(nlohmann::json summary) {
   written_.push_back(manifest_);
   summary["outputs"] = written_;
   writeAtomically(path(manifest_), [&](std::ostream& f) { f << summary.dump(2) << '\n'; });
+}
+
+std::string formatG(double value, int digits) {
+  if (std::isnan(value)) return "-";
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.*g", digits, value);
+  return text;
 }
 
 void printTable(std::ostream& out, const std::vector<std::vector<std::string>>& rows) {

@@ -81,6 +81,9 @@ class OutputFolder {
 // left-aligned and the others right-aligned (numbers). Rows may have fewer cells than others.
 void printTable(std::ostream& out, const std::vector<std::vector<std::string>>& rows);
 
+// value in %.<digits>g, "-" for NaN (a table's cell).
+std::string formatG(double value, int digits);
+
 // A study's progress on standard error, never in its results: "consistency: run 3/12", redrawn in
 // place when it goes to a terminal (in_place), else as plain lines, at most about ten per batch
 // of runs (each tenth and the last) so that a log file stays readable.

@@ -96,8 +96,14 @@ int RobotCommand::run(std::ostream& out) const {
   out << "  model   " << (robot.model.empty() ? "the built-in Go2-class quadruped" : robot.model)
       << "\n";
   if (!robot.base.empty()) out << "  base    " << robot.base << "\n";
-  out << "  mass    " << std::fixed << std::setprecision(3) << legs->mass()
-      << " kg (the sum of the model's bodies)\n";
+  const double mass = robotMass(settings, legs.get());
+  out << "  mass    " << std::fixed << std::setprecision(3) << mass
+      << (robot.mass > 0.0 ? " kg (robot.mass)\n" : " kg (the sum of the model's bodies)\n");
+  const contact::SchmittParams f = detectorContext(settings, mass, legs->numFeet()).schmitt;
+  out << "  contact schmitt f_high " << std::setprecision(1) << f.f_high << " N, f_low " << f.f_low
+      << " N, saturation " << f.saturation << " N"
+      << (settings.schmitt.f_high ? " (contact.schmitt)\n"
+                                  : " (auto: the Go2 design scaled to m g / n_feet)\n");
   const model::ImuExtrinsic& T = settings.imu_extrinsic;
   out << "  IMU     at [" << std::setprecision(5) << T.p_BI.x() << ", " << T.p_BI.y() << ", "
       << T.p_BI.z() << "] m in the base frame, R_BI = [w x y z] [" << T.q_BI.w() << ", "

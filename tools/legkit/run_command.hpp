@@ -42,7 +42,40 @@ struct RunRow {
   eval::RunResult run;
   std::optional<eval::Metrics> metrics;
   std::optional<eval::ContactScores> contact_scores;
+  // The feet's names by foot id ("FL", ...; a robot's own), for the per-foot contact
+  // diagnostics; empty: "foot <id>".
+  std::vector<std::string> foot_names = {};
 };
+
+// The stance-foot NIS check of one run (Estimator::stanceInnovations()): its mean per dimension
+// against the bounds below. 1 is consistent. Above `upper` the filter's stance-foot measurements
+// are further from its prediction than its covariance allows (over-confident: the stance density
+// or the front end's noise too small for this log); below kNisOverCautious far closer
+// (over-cautious). `upper` is the larger of the chi-square bound for the run's dimensions,
+// chi2inv(0.999, D) / D, and kNisOverConfident: successive updates at 1 kHz are far from
+// independent, and the bound alone would flag every real log (see kNisOverConfident).
+struct NisCheck {
+  double mean = 0.0;  // sum NIS / dimensions
+  long updates = 0;
+  long dimensions = 0;
+  double upper = 0.0;
+  double lower = 0.0;
+  const char* verdict = "consistent";  // "consistent", "over-confident" or "over-cautious"
+};
+// The practical bounds on the mean NIS per dimension, measured (chapters/57.11: legkit run's NIS).
+constexpr double kNisOverConfident = 3.0;
+constexpr double kNisOverCautious = 0.1;
+// None for a run without stance-foot updates (an estimator without NIS, no stance foot).
+std::optional<NisCheck> checkNis(const eval::RunResult& run);
+// The warnings `legkit run` prints to stderr, one per estimator whose NIS is out of its bounds,
+// naming the estimator, the ratio and the settings that set it.
+std::vector<std::string> nisWarnings(const std::vector<RunRow>& rows);
+
+// The per-foot contact block under the tables: per foot which detectors decided it (shares),
+// hand-overs, stance share, touchdowns, samples settled and slipping, the commonest hand-over
+// problem; of the first estimator's run when they differ (all of them in summary.json). Nothing
+// when no run had a contact pipeline.
+void printContactFeet(std::ostream& out, const std::vector<RunRow>& rows);
 
 // The rows of a trajectory that an estimate file at `rate` [Hz] keeps (rate 0: every row): the
 // first row, then the first row of each new period 1/rate counted from the first row's time, and
@@ -58,7 +91,8 @@ void printRunTable(std::ostream& out, const std::vector<RunRow>& rows);
 // summary.json's "estimators": per estimator its health, ANEES, contact scores and, with a truth,
 // its metrics (NaN, "not computed", as null; ATE on the first pose and after the SE(3) and 4-DoF
 // alignments, RPE over each distance), the truth's distance, scored and masked rows and where its
-// velocity came from.
+// velocity came from; its stance-foot NIS ("stance_nis", checkNis) and per foot its contact
+// diagnostics ("feet": [{"foot", "name", "contact": {...}}], ContactDiagnostics).
 nlohmann::json toJson(const std::vector<RunRow>& rows);
 
 // The contact detector's table, under the estimator table: precision, recall, F1, touchdown and
