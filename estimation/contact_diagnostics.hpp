@@ -17,6 +17,11 @@
 namespace legkit {
 
 // The distinct problem strings counted per foot; a further distinct one counts in other_problems.
+// A capacity, not a tuning: a foot is handed down the chain by at most a few kinds of problem in
+// one run (the force sensor's: missing, negative, saturated, stuck; the momentum observer's
+// settling; the kinematic detector's missing base or kinematics). On every physics scenario and
+// the iCub log none was over (test_run_diagnostics_cli: one kind, "force negative"), and
+// other_problems says when one is.
 constexpr int kMaxProblemsPerFoot = 6;
 
 struct FootContactDiagnostics {
