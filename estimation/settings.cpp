@@ -289,17 +289,21 @@ const std::vector<Node>& schema() {
       section(
           "imu", "The IMU: continuous noise densities (datasheet, or `legkit allan`) and its pose",
           {positive(
-               "gyro_noise_density", [](S& s) -> double& { return s.imu.gyro_noise_density; }, 1,
+               "gyro_noise_density", [](S& s) -> double& { return s.imu.gyro_noise_density; },
+               model::ImuNoiseLimits::gyro_noise_density,
                "sigma_g, gyro white noise [rad/s/sqrt(Hz)]"),
            positive(
-               "accel_noise_density", [](S& s) -> double& { return s.imu.accel_noise_density; }, 10,
+               "accel_noise_density", [](S& s) -> double& { return s.imu.accel_noise_density; },
+               model::ImuNoiseLimits::accel_noise_density,
                "sigma_a, accelerometer white noise [m/s^2/sqrt(Hz)]"),
            number(
                "gyro_bias_random_walk", [](S& s) -> double& { return s.imu.gyro_bias_random_walk; },
-               0, 0.1, "sigma_bg, gyro bias random walk [rad/s^2/sqrt(Hz)]"),
+               0, model::ImuNoiseLimits::gyro_bias_random_walk,
+               "sigma_bg, gyro bias random walk [rad/s^2/sqrt(Hz)]"),
            number(
                "accel_bias_random_walk",
-               [](S& s) -> double& { return s.imu.accel_bias_random_walk; }, 0, 1,
+               [](S& s) -> double& { return s.imu.accel_bias_random_walk; }, 0,
+               model::ImuNoiseLimits::accel_bias_random_walk,
                "sigma_ba, accelerometer bias random walk [m/s^3/sqrt(Hz)]"),
            section(
                "extrinsic", "The IMU's pose in the base frame, T_BI (identity: base = IMU)",

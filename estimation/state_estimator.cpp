@@ -40,6 +40,15 @@ LogFrontend frontendOf(const io::LogLayout& layout, const model::LegKinematics* 
               : LogFrontend(layout, model::QuadrupedKinematics(), s.frontend, s.imu_extrinsic);
 }
 
+// What the detectors know of the robot (detectorContext), and the settings' planned gait
+// (contact.gait) for detector gait-clock, as `legkit run` gives a recorded log.
+contact::DetectorContext robotContext(const Settings& s, const model::LegKinematics* legs,
+                                      int num_feet) {
+  contact::DetectorContext context = detectorContext(s, robotMass(s, legs), num_feet);
+  context.gait = gaitSchedule(s, num_feet);
+  return context;
+}
+
 std::string filterName(const Settings& s) {
   return s.estimators.empty() ? std::string("invariant-ekf") : s.estimators.front();
 }
@@ -84,7 +93,7 @@ StateEstimator::StateEstimator(const Settings& settings, std::size_t history, do
       extrinsic_(settings.imu_extrinsic),
       estimator_(makeEstimator(filterName(settings), settings)),
       pipeline_(frontendOf(layout_, legs_.get(), settings), settings.pipeline,
-                detectorContext(settings, robotMass(settings, legs_.get()), layout_.num_feet)),
+                robotContext(settings, legs_.get(), layout_.num_feet)),
       init_params_(settings.initialisation),
       init_(settings.initialisation),
       monitor_(settings.monitors, layout_.num_feet, imu_period),

@@ -112,7 +112,8 @@ class StateEstimator {
   // chapter's choice for proprioception alone), made by makeEstimator(name, settings) with the
   // settings' IMU densities, limits, priors, feet, gating and its own section. The contact source:
   // settings.pipeline.contact, a detector of contact::detectorNames() (with settings.schmitt for
-  // "schmitt"), or "truth" for the robot's own flags in ForceSample::contact. The legs: the
+  // "schmitt"; gait-clock with the settings' contact.gait), or "truth" for the robot's own flags
+  // in ForceSample::contact. The legs: the
   // built-in quadruped when settings.robot.model is empty, else the robot's model file
   // (model::makeLegKinematics: generic joints, its feet); the feet go into the IMU frame of
   // settings.imu_extrinsic (the front end, estimation/log_frontend.hpp). Throws

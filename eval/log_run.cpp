@@ -16,6 +16,37 @@ std::unique_ptr<model::LegKinematics> logLegs(const io::LogLayout& layout,
   return model::makeLegKinematics(robot.model, robot.base, robot.feet, robot.joints);
 }
 
+void checkLogRobot(const io::LogLayout& layout, const RobotSettings& robot,
+                   const model::LegKinematics* legs, const std::string& config,
+                   const std::string& source) {
+  if (!robot.model.empty() && layout.num_joints == 0) {
+    throw std::invalid_argument(config + ": robot.model: " + source +
+                                " has no generic joint columns (joint<k>_q) for the robot's legs");
+  }
+  const auto mismatch = [&](const char* key, int robot_count, int logged, const char* columns) {
+    const std::string counts = std::to_string(robot_count) + " " + key + ", " + source + " has " +
+                               std::to_string(logged) + " (" + columns + " columns)";
+    if (config.empty()) {
+      throw std::invalid_argument("the built-in Go2 (no --config) has " + counts +
+                                  ": name the robot in --config (robot.model)");
+    }
+    throw std::invalid_argument(config + ": robot." + key + ": " + counts);
+  };
+  if (legs && legs->numJoints() != layout.num_joints) {
+    mismatch("joints", legs->numJoints(), layout.num_joints, "joint<k>_q");
+  }
+  if (legs && legs->numFeet() != layout.num_feet) {
+    mismatch("feet", legs->numFeet(), layout.num_feet, "foot<k>_");
+  }
+}
+
+void checkContactSource(const std::string& contact, const io::LogLayout& layout,
+                        const std::string& source) {
+  if (contact == "truth" && !layout.contact) {
+    throw std::invalid_argument(source + " has no contact columns; choose a detector");
+  }
+}
+
 LogFrontend logFrontend(const io::LogLayout& layout, const model::LegKinematics* legs,
                         const FrontendNoise& noise, const model::ImuExtrinsic& extrinsic) {
   return legs ? LogFrontend(layout, *legs, noise, extrinsic)
@@ -36,8 +67,10 @@ RunResult runWithSettings(const io::Log& recorded, const Settings& settings,
   condition(log, settings.conditioning);
   PipelineOptions options = settings.pipeline;
   options.limits = settings.limits;
-  if (options.contact == "truth" && !log.layout.contact) {
-    throw std::invalid_argument("contact 'truth': the log has no contact columns");
+  try {
+    checkContactSource(options.contact, log.layout, "the log");
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("contact 'truth': ") + e.what());
   }
   const std::unique_ptr<model::LegKinematics> legs = logLegs(log.layout, settings.robot);
   const LogFrontend frontend =

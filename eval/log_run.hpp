@@ -23,6 +23,21 @@ namespace legkit::eval {
 std::unique_ptr<model::LegKinematics> logLegs(const io::LogLayout& layout,
                                               const RobotSettings& robot);
 
+// The settings' robot against a recorded log's joint columns, checked before a run (as `legkit
+// run --log` and legkit-estimate check it): a robot model (robot.model) needs generic joint
+// columns (joint<k>_q), and the model's joints and feet (`legs`: logLegs()) must be the log's.
+// Throws std::invalid_argument naming the settings file `config` and the key, and the log
+// `source`; without a settings file (`config` empty), the built-in Go2's counts and what to give.
+void checkLogRobot(const io::LogLayout& layout, const RobotSettings& robot,
+                   const model::LegKinematics* legs, const std::string& config,
+                   const std::string& source);
+
+// "truth" as the contact source takes the log's own flags: a log without contact columns
+// (contact_<leg>, foot<k>_contact) throws std::invalid_argument "<source> has no contact columns;
+// choose a detector". Any other source passes.
+void checkContactSource(const std::string& contact, const io::LogLayout& layout,
+                        const std::string& source);
+
 // The front end of a log on `legs` (logLegs; null: the built-in quadruped's kinematics), which
 // must outlive it.
 LogFrontend logFrontend(const io::LogLayout& layout, const model::LegKinematics* legs,
@@ -36,10 +51,10 @@ std::string noGait();
 // base checked (std::invalid_argument naming the row), the settings' front end (stamps, joint
 // velocities), noise, limits, contact pipeline (the detectors' forces scaled to the robot's
 // weight, then the settings' own: detectorContext; the gait and the logistic model of `context`,
-// the gait when it has none from the settings' contact.gait), robot and IMU extrinsic, from x0 (default: initialState), a
-// pose-only truth differentiated over frontend.truth_velocity_window. The trajectory keeps the
-// log's own stamps, as the estimate files do (the estimator ran on the conditioned ones), so that
-// it lines up with the log row for row.
+// the gait when it has none from the settings' contact.gait), robot and IMU extrinsic, from x0
+// (default: initialState), a pose-only truth differentiated over frontend.truth_velocity_window.
+// The trajectory keeps the log's own stamps, as the estimate files do (the estimator ran on the
+// conditioned ones), so that it lines up with the log row for row.
 RunResult runWithSettings(const io::Log& recorded, const Settings& settings,
                           const std::string& estimator, const contact::DetectorContext& context,
                           const std::optional<EstimateSample>& x0 = std::nullopt);

@@ -20,11 +20,38 @@ std::string rowLocation(const io::Log& log, std::size_t k) {
   return log.source + ":" + std::to_string(log.lineOfRow(k));
 }
 
-namespace {
-
-bool finite(const EstimateSample& x) {
-  return std::isfinite(x.t) && x.q.coeffs().allFinite() && x.v.allFinite() && x.p.allFinite();
+RunFailure failureAt(const io::Log& log, std::size_t k, const std::string& what) {
+  RunFailure f;
+  f.what = what;
+  f.row = k;
+  f.t = log.rows[k].t;
+  f.where = rowLocation(log, k);
+  return f;
 }
+
+std::string threwReason(const std::exception& e) {
+  const std::string what = e.what();
+  // "<Name>::step at t = <t>: <reason>" (health_guard.cpp's checkStepInput and the estimators).
+  const std::size_t step = what.find("::step at t = ");
+  const std::size_t colon = step == std::string::npos ? step : what.find(": ", step);
+  const bool name = step != std::string::npos && step > 0 &&
+                    what.find_first_of(" :") >= step;  // one word before "::step"
+  if (name && colon != std::string::npos) return "threw: " + what.substr(colon + 2);
+  return "threw: " + what;
+}
+
+std::string unusableEstimate(const EstimateSample& x, const BaseCovariance* cov) {
+  if (!(std::isfinite(x.t) && x.q.coeffs().allFinite() && x.v.allFinite() && x.p.allFinite())) {
+    return "non-finite estimate";
+  }
+  if (cov && !cov->P.allFinite()) return "non-finite covariance";
+  if (cov && !(cov->P.diagonal().array() >= 0.0).all()) {
+    return "covariance with a negative variance on its diagonal";
+  }
+  return {};
+}
+
+namespace {
 
 // The run of runOnLog: input_of(k, dt) gives row k's input (the estimator not yet stepped on
 // it); after_row() runs once that row's estimate has been recorded. The estimator runs in the
@@ -41,12 +68,11 @@ RunResult runRows(Estimator& estimator, const io::Log& log, const model::ImuExtr
   std::size_t steps = 0;
   std::size_t k = 0;
   const auto fail = [&](const std::string& what) {
-    RunFailure f;
-    f.what = what;
-    f.row = k;
-    f.t = k < log.rows.size() ? log.rows[k].t : x0.t;
-    f.where = k < log.rows.size() ? rowLocation(log, k) : std::string();
-    result.failure = std::move(f);
+    if (k < log.rows.size()) {
+      result.failure = failureAt(log, k, what);
+    } else {
+      result.failure = RunFailure{what, k, x0.t, std::string()};
+    }
   };
   try {
     // The IMU's initial state from the base's, with row 0's rate (w_B = R_BI w_I).
@@ -75,20 +101,18 @@ RunResult runRows(Estimator& estimator, const io::Log& log, const model::ImuExtr
       busy += std::chrono::steady_clock::now() - t0;
       ++steps;
       const EstimateSample x_I = estimator.estimate();
-      if (!finite(x_I)) {
-        fail("non-finite estimate");
+      std::string unusable = unusableEstimate(x_I, nullptr);
+      if (!unusable.empty()) {
+        fail(unusable);
         break;
       }
       // Back to the base with the row's measured rate (bias not removed: the interface has none).
       const EstimateSample x = moved ? baseFromImu(extrinsic, x_I, row.gyro) : x_I;
       std::optional<BaseCovariance> cov = estimator.covariance();
       if (moved && cov) cov = baseCovarianceFromImu(extrinsic, x_I, row.gyro, *cov);
-      if (cov && !cov->P.allFinite()) {
-        fail("non-finite covariance");
-        break;
-      }
-      if (cov && !(cov->P.diagonal().array() >= 0.0).all()) {
-        fail("covariance with a negative variance on its diagonal");
+      unusable = unusableEstimate(x, cov ? &*cov : nullptr);
+      if (!unusable.empty()) {
+        fail(unusable);
         break;
       }
       double e = std::numeric_limits<double>::quiet_NaN();
@@ -110,7 +134,7 @@ RunResult runRows(Estimator& estimator, const io::Log& log, const model::ImuExtr
       result.nees_dof = neesDof(*cov);
       if (log.layout.ground_truth) result.nees.push_back(e);
     } catch (const std::exception& e) {
-      fail(std::string("threw: ") + e.what());
+      fail(threwReason(e));
       break;
     } catch (...) {
       fail("threw an exception that is not a std::exception");

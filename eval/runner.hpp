@@ -4,6 +4,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <exception>
 #include <optional>
 #include <string>
 #include <vector>
@@ -123,6 +124,19 @@ RunResult runOnLog(Estimator& estimator, const io::Log& log, ContactPipeline& pi
 
 // "file:line" of log row k when the log knows the file it came from, else empty.
 std::string rowLocation(const io::Log& log, std::size_t k);
+
+// A run's failure `what` at log row k: its row, time and rowLocation (as runOnLog records it).
+RunFailure failureAt(const io::Log& log, std::size_t k, const std::string& what);
+
+// A run's failure reason for an exception its estimator (or front end) threw on a row: "threw: "
+// and the message, less the "<Estimator>::step at t = <t>: " the estimators begin it with (the
+// failure gives the row's file, line and time; the class is the kit's, not the user's).
+std::string threwReason(const std::exception& e);
+
+// Why an estimate (and its covariance, when `cov` is not null) cannot be used, as runOnLog checks
+// each row's: "non-finite estimate", "non-finite covariance", "covariance with a negative
+// variance on its diagonal"; empty when it can.
+std::string unusableEstimate(const EstimateSample& x, const BaseCovariance* cov);
 
 // One line for a failure: "[file:line, ]t = T s (row K): what".
 std::string describe(const RunFailure& failure);

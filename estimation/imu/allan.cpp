@@ -4,9 +4,12 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <new>
+#include <sstream>
 #include <stdexcept>
 #include <string_view>
 
+#include "estimation/health.hpp"
 #include "io/csv_text.hpp"
 #include "io/input_file.hpp"
 #include "io/log_error.hpp"
@@ -131,6 +134,34 @@ model::ImuNoise AllanAnalysis::noise() const {
   return noise;
 }
 
+std::string AllanAnalysis::moved() const {
+  using Limits = model::ImuNoiseLimits;
+  for (int a = 0; a < ImuRecording::kAxes; ++a) {
+    const bool gyro = a < 3;
+    const struct {
+      const SlopeLine& line;
+      const char* what;
+      double limit;
+      const char* unit;
+    } checks[] = {{axes[a].white, "white noise density",
+                   gyro ? Limits::gyro_noise_density : Limits::accel_noise_density,
+                   gyro ? "rad/s/sqrt(Hz)" : "m/s^2/sqrt(Hz)"},
+                  {axes[a].random_walk, "bias random walk",
+                   gyro ? Limits::gyro_bias_random_walk : Limits::accel_bias_random_walk,
+                   gyro ? "rad/s^2/sqrt(Hz)" : "m/s^3/sqrt(Hz)"}};
+    for (const auto& c : checks) {
+      if (c.line.found() && c.line.level > c.limit) {
+        std::ostringstream why;
+        why << ImuRecording::kAxisNames[a] << " reads a " << c.what << " of " << c.line.level << " "
+            << c.unit << " (from tau " << c.line.tau_first << " to " << c.line.tau_last
+            << " s), where an IMU at rest shows at most " << c.limit;
+        return why.str();
+      }
+    }
+  }
+  return {};
+}
+
 AllanAnalysis analyseImu(const ImuRecording& recording, const AllanOptions& options) {
   AllanAnalysis analysis;
   analysis.tau0 = recording.tau0;
@@ -169,6 +200,26 @@ using io::shown;
 using io::trim;
 
 constexpr std::array<const char*, 7> kPlainHeader = {"t", "gx", "gy", "gz", "ax", "ay", "az"};
+
+// A reading beyond a sensor's full scale is not a resting IMU's (a 2000 deg/s gyro, a 16 g
+// accelerometer: estimation/health.hpp's InputLimits, which the filters hold their input to).
+// Without this check a value near 1e300 overflows the Allan sums into "not found" and B = 0.
+void checkFullScale(const double* reading, const std::string& path, int line,
+                    const std::array<const char*, ImuRecording::kAxes>& columns) {
+  const InputLimits limits;
+  for (int a = 0; a < ImuRecording::kAxes; ++a) {
+    const bool gyro = a < 3;
+    const double full_scale = gyro ? limits.gyro_max : limits.accel_max;
+    if (std::abs(reading[a]) > full_scale) {
+      throw io::LogError(path, line, columns[a],
+                         std::string(gyro ? "a rate of " : "a specific force of ") +
+                             std::to_string(reading[a]) + (gyro ? " rad/s" : " m/s^2") +
+                             " is beyond an IMU's full scale (" + std::to_string(full_scale) +
+                             (gyro ? " rad/s, 2000 deg/s" : " m/s^2, 16 g") +
+                             "): not a resting IMU's reading");
+    }
+  }
+}
 
 bool isPlainHeader(std::string_view line) {
   std::size_t column = 0;
@@ -241,6 +292,9 @@ ImuRecording readPlain(std::istream& in, const std::string& path, std::size_t he
       throw io::LogError(path, static_cast<int>(line), "t",
                          "time does not increase (" + shown(trim(text.substr(0, text.find(',')))) +
                              " after " + std::to_string(t.back()) + " s)");
+    checkFullScale(value + 1, path, static_cast<int>(line),
+                   {kPlainHeader[1], kPlainHeader[2], kPlainHeader[3], kPlainHeader[4],
+                    kPlainHeader[5], kPlainHeader[6]});
     t.push_back(value[0]);
     rec.values.insert(rec.values.end(), value + 1, value + 7);
   }
@@ -264,7 +318,17 @@ ImuRecording readImuRecording(const std::string& path) {
     std::string_view header = text;
     if (line == 1 && header.substr(0, 3) == "\xEF\xBB\xBF") header.remove_prefix(3);
     if (!trim(header).empty() && header.front() == '#') continue;
-    if (isPlainHeader(trim(header))) return readPlain(in, path, line);
+    if (isPlainHeader(trim(header))) {
+      // Streamed at 56 bytes a sample: a recording larger than the memory is said, not a bare
+      // std::bad_alloc (the kit's log format below has the same message from its reader).
+      try {
+        return readPlain(in, path, line);
+      } catch (const std::bad_alloc&) {
+        throw io::LogError(path, 0, "",
+                           "the recording is too large for this machine's memory (56 bytes a "
+                           "sample): analyse a part of it");
+      }
+    }
     break;
   }
   // Not the plain header: the kit's log, with every check of its reader.
@@ -275,10 +339,13 @@ ImuRecording readImuRecording(const std::string& path) {
   std::vector<double> t;
   t.reserve(log.rows.size());
   rec.values.reserve(log.rows.size() * ImuRecording::kAxes);
-  for (const io::LogRow& row : log.rows) {
+  for (std::size_t k = 0; k < log.rows.size(); ++k) {
+    const io::LogRow& row = log.rows[k];
+    const double reading[ImuRecording::kAxes] = {row.gyro.x(), row.gyro.y(), row.gyro.z(),
+                                                 row.acc.x(),  row.acc.y(),  row.acc.z()};
+    checkFullScale(reading, path, log.lineOfRow(k), ImuRecording::kAxisNames);
     t.push_back(row.t);
-    rec.values.insert(rec.values.end(), row.gyro.data(), row.gyro.data() + 3);
-    rec.values.insert(rec.values.end(), row.acc.data(), row.acc.data() + 3);
+    rec.values.insert(rec.values.end(), reading, reading + ImuRecording::kAxes);
   }
   rec.tau0 = uniformStep(t, path, log.lineOfRow(0));
   return rec;

@@ -103,6 +103,9 @@ struct AllanAnalysis {
   // The kit's noise parameters: per sensor the largest of its three axes (a filter that assumes
   // one density for all three should not understate any). NaN where an axis lacks the line.
   model::ImuNoise noise() const;
+  // Why the record cannot be a resting IMU's: the first axis whose white noise or bias random walk
+  // exceeds model::ImuNoiseLimits (the motion of a robot, read as noise); empty when none does.
+  std::string moved() const;
 };
 
 // Every axis's curve, lines and bias instability. Throws std::invalid_argument when the record is

@@ -31,3 +31,14 @@ test $s -eq 2 && grep -q 'need the robot.s model: --config with a robot: section
                  sh $<TARGET_FILE:legkit-estimate> ${PROJECT_SOURCE_DIR}/data/icub-walking/walking.csv
          WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
 set_tests_properties(legkit_estimate_needs_the_robot PROPERTIES LABELS "57.11;cli;real-robot")
+
+# Issue 23 item 7: legkit-estimate keeps `legkit run --log`'s contract: the logs run refuses, with
+# its messages (exit 2), a row the filter cannot take as run's FAILED line (exit 3), the robot and
+# the contact source against the log's columns, every option's range named (exit 1).
+legkit_add_test(test_legkit_estimate_cli SOURCES legkit_estimate_cli_test.cpp
+                LABELS "57.11;cli;robustness")
+target_compile_definitions(test_legkit_estimate_cli
+                           PRIVATE LEGKIT_EXE="$<TARGET_FILE:legkit>"
+                                   LEGKIT_ESTIMATE_EXE="$<TARGET_FILE:legkit-estimate>"
+                                   LEGKIT_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+add_dependencies(test_legkit_estimate_cli legkit legkit-estimate)

@@ -23,28 +23,30 @@ int runLegkit(const std::vector<std::string>& args, const std::filesystem::path&
   return status;
 }
 
+// 200 s at 100 Hz of white noise of density 0.01 per root hertz with a bias that random-walks by
+// `walk` per root second on every axis, timestamps jittered by up to 0.2 of a step.
+void writeRecording(const std::filesystem::path& file, double walk) {
+  std::ofstream f(file);
+  f << "# an IMU\nt,gx,gy,gz,ax,ay,az\n";
+  std::mt19937_64 gen(7);
+  std::normal_distribution<double> unit;
+  std::uniform_real_distribution<double> jitter(-0.002, 0.002);
+  double bias[6] = {};
+  for (int k = 0; k < 20000; ++k) {
+    f << 100.0 + 0.01 * k + jitter(gen);
+    for (double& b : bias) {
+      f << ',' << b + 0.1 * unit(gen);  // 0.01 / sqrt(0.01)
+      b += walk * 0.1 * unit(gen);      // walk * sqrt(0.01)
+    }
+    f << '\n';
+  }
+}
+
 }  // namespace
 
 TEST_CASE("legkit allan reads a plain recording and prints the settings keys", "[allan][cli]") {
   legkit::test::ScratchFolder dir("allan_cli");
-  {
-    // 200 s at 100 Hz of white noise with a random-walk bias (0.01 and 0.01 per root second on
-    // every axis), timestamps jittered by up to 0.2 of a step.
-    std::ofstream f(dir.path / "imu.csv");
-    f << "# a resting IMU\nt,gx,gy,gz,ax,ay,az\n";
-    std::mt19937_64 gen(7);
-    std::normal_distribution<double> unit;
-    std::uniform_real_distribution<double> jitter(-0.002, 0.002);
-    double bias[6] = {};
-    for (int k = 0; k < 20000; ++k) {
-      f << 100.0 + 0.01 * k + jitter(gen);
-      for (double& b : bias) {
-        f << ',' << b + 0.1 * unit(gen);  // 0.01 / sqrt(0.01)
-        b += 0.001 * unit(gen);           // 0.01 * sqrt(0.01)
-      }
-      f << '\n';
-    }
-  }
+  writeRecording(dir.path / "imu.csv", 0.01);
   std::string text;
   REQUIRE(runLegkit({"allan", "imu.csv", "--no-plots", "--out", "out"}, dir.path, &text) == 0);
   CHECK_THAT(text, Catch::Contains("20000 samples, tau0 0.01 s"));
@@ -75,4 +77,29 @@ TEST_CASE("legkit allan refuses a gap and a missing input", "[allan][cli]") {
   CHECK_FALSE(std::filesystem::exists(dir.path / "legkit-out"));
   CHECK(runLegkit({"allan"}, dir.path, &text) == 1);
   CHECK_THAT(text, Catch::Contains("give a recording FILE or --simulate SECONDS"));
+}
+
+TEST_CASE("legkit allan refuses what is not a resting IMU and writes nothing", "[allan][cli]") {
+  legkit::test::ScratchFolder dir("allan_cli_moving");
+  std::string text;
+  // A reading near 1e300 overflowed the Allan sums: "not found" and B = 0, exit 0.
+  std::ofstream(dir.path / "huge.csv") << "t,gx,gy,gz,ax,ay,az\n0,0,0,0,0,0,9.8\n"
+                                          "0.01,0,1e300,0,0,0,9.8\n0.02,0,0,0,0,0,9.8\n";
+  CHECK(runLegkit({"allan", "huge.csv", "--no-plots"}, dir.path, &text) == 2);
+  CHECK_THAT(text, Catch::Contains("huge.csv:3: column 'gy': a rate of"));
+  CHECK_THAT(text, Catch::Contains("beyond an IMU's full scale"));
+  // A rate that wanders by 1 rad/s per root second, as a moving robot's does: its bias random walk
+  // is beyond any IMU at rest, so no imu-noise.yaml (nor anything else) is written.
+  writeRecording(dir.path / "moving.csv", 1.0);
+  CHECK(runLegkit({"allan", "moving.csv", "--no-plots", "--out", "out"}, dir.path, &text) == 2);
+  CHECK_THAT(text, Catch::Contains("moving.csv: not a resting IMU's record: gyro_x reads a bias "
+                                   "random walk of"));
+  CHECK_THAT(text, Catch::Contains("where an IMU at rest shows at most 0.1; nothing written"));
+  CHECK_FALSE(std::filesystem::exists(dir.path / "out"));
+  // The kit's own log of a trotting robot: refused the same way (it wrote its densities before).
+  REQUIRE(runLegkit({"sim", "--scenario", "trot", "--duration", "10", "--out", "trot.csv"},
+                    dir.path, &text) == 0);
+  CHECK(runLegkit({"allan", "trot.csv", "--no-plots", "--out", "out"}, dir.path, &text) == 2);
+  CHECK_THAT(text, Catch::Contains("trot.csv: not a resting IMU's record"));
+  CHECK_FALSE(std::filesystem::exists(dir.path / "out"));
 }

@@ -89,7 +89,9 @@ TEST_CASE("legkit run: stance-foot innovations larger than their covariance are 
   // The kit's defaults fit: no warning, and summary.json's verdicts are not over-confident.
   REQUIRE(runLegkit(dir.path, with(run, {"--out", "d"}), output) == 0);
   CHECK(output.find("legkit tune") == std::string::npos);
-  for (const nlohmann::json& e : summary(dir.path / "d")["estimators"]) {
+  // The summary is held in a local: a range-for over a temporary's member dangles.
+  const nlohmann::json defaults = summary(dir.path / "d");
+  for (const nlohmann::json& e : defaults["estimators"]) {
     if (e.contains("stance_nis") && !e["stance_nis"].is_null()) {
       CHECK(e["stance_nis"]["verdict"] != "over-confident");
     }
@@ -102,7 +104,8 @@ TEST_CASE("legkit run: stance-foot innovations larger than their covariance are 
   INFO(output);
   CHECK(output.find("eskf: stance-foot innovations") != std::string::npos);
   CHECK(output.find("run `legkit tune` on it") != std::string::npos);
-  for (const nlohmann::json& e : summary(dir.path / "x")["estimators"]) {
+  const nlohmann::json exact = summary(dir.path / "x");
+  for (const nlohmann::json& e : exact["estimators"]) {
     if (e["estimator"] == "eskf") CHECK(e["stance_nis"]["verdict"] == "over-confident");
   }
 }

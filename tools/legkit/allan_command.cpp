@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 
+#include "io/log_error.hpp"
 #include "model/imu_model.hpp"
 #include "output.hpp"
 #include "validators.hpp"
@@ -84,7 +85,8 @@ AllanCommand::AllanCommand(CLI::App& app)
       c.add_option("file", file_,
                    "The recording: the kit's log CSV (t, gyro_*, acc_*, ...) or a plain CSV with "
                    "the header t,gx,gy,gz,ax,ay,az [s, rad/s, m/s^2]; steps within 0.5..1.5 of "
-                   "the median step");
+                   "the median step")
+          ->check(nonEmptyName());  // '' once said "give a FILE or --simulate"
   CLI::Option* simulate =
       c.add_option("--simulate", simulate_,
                    "Instead of a file: this many seconds of the kit's Go2 IMU model at rest")
@@ -93,9 +95,12 @@ AllanCommand::AllanCommand(CLI::App& app)
   c.add_option("--rate", rate_, "Sample rate of --simulate [Hz]")
       ->check(finiteRange(1.0, 1e4))
       ->capture_default_str();
-  c.add_option("--seed", seed_, "Random seed of --simulate")->capture_default_str();
+  c.add_option("--seed", seed_, "Random seed of --simulate")
+      ->check(seedNumber())
+      ->capture_default_str();
   c.add_option("--out", out_dir_,
-               "Output folder (default legkit-out/allan-<file name> or allan-go2-seed<seed>)");
+               "Output folder (default legkit-out/allan-<file name> or allan-go2-seed<seed>)")
+      ->check(nonEmptyName());
   c.add_option("--ratio", options_.ratio,
                "Of successive averaging factors m: 2 octaves 1, 2, 4, ...; 1.2589 about ten per "
                "decade (three times the work)")
@@ -111,6 +116,15 @@ AllanCommand::AllanCommand(CLI::App& app)
 int AllanCommand::run(std::ostream& out) const {
   if (file_.empty() && simulate_ == 0.0)
     throw UsageError("allan: give a recording FILE or --simulate SECONDS");
+  // The record is kept whole, 48 bytes a sample: 2e7 samples (a day at 230 Hz) is about 1 GB
+  // with the analysis' working copy; --simulate 86400 at 10 kHz would have been 41 GB.
+  constexpr double kMaxSamples = 2e7;
+  if (file_.empty() && simulate_ * rate_ > kMaxSamples) {
+    std::ostringstream os;
+    os << "--simulate " << simulate_ << " s at --rate " << rate_ << " Hz: " << simulate_ * rate_
+       << " samples, at most " << kMaxSamples << " (48 bytes each): fewer seconds or a lower rate";
+    throw UsageError(os.str());
+  }
   const auto start = std::chrono::steady_clock::now();
   const imu::ImuRecording recording =
       file_.empty() ? simulatedGo2(simulate_, rate_, seed_) : imu::readImuRecording(file_);
@@ -142,6 +156,13 @@ int AllanCommand::run(std::ostream& out) const {
          "in place of rad/s; +-: the line's relative standard error from the points' bounds)\n\n";
   const std::string yaml =
       imuNoiseYaml(analysis, file_.empty() ? recording.source : "legkit allan " + file_);
+  // A walking robot's log reads a gyro bias random walk of 0.84 rad/s^2/sqrt(Hz) (its motion),
+  // where the settings file allows 0.1: its numbers are not written anywhere, nor printed as a
+  // settings section.
+  if (const std::string why = analysis.moved(); !why.empty()) {
+    throw io::LogError(recording.source, 0, "",
+                       "not a resting IMU's record: " + why + "; nothing written");
+  }
   out << yaml;
 
   const fs::path dir = !out_dir_.empty() ? fs::path(out_dir_)

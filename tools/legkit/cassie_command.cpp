@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <iomanip>
 
+#include "validators.hpp"
+
 namespace legkit::tools {
 namespace {
 
@@ -41,6 +43,7 @@ CassieCommand::CassieCommand(CLI::App& app)
       file_(defaultLog()) {
   CLI::App& c = *command_;
   c.add_option("file", file_, "Log in the reference's text format (IMU/CONTACT/KINEMATIC lines)")
+      ->check(nonEmptyName())
       ->capture_default_str();
   CLI::Option* exact =
       c.add_flag("--exact", exact_,

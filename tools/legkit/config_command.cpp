@@ -3,6 +3,7 @@
 #include "estimation/settings.hpp"
 #include "model/mujoco_kinematics.hpp"
 #include "output.hpp"
+#include "validators.hpp"
 
 namespace legkit::tools {
 
@@ -16,7 +17,8 @@ ConfigCommand::ConfigCommand(CLI::App& app)
   CLI::Option* check =
       c.add_option("--check", check_,
                    "Read this settings file and load its robot model: print 'ok', or "
-                   "the error naming its line and key (exit 2)");
+                   "the error naming its line and key (exit 2)")
+          ->check(nonEmptyName());
   print->excludes(check);
   c.require_option(1);
 }

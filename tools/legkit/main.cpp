@@ -17,10 +17,11 @@
 #include "config_command.hpp"
 #include "lie_accuracy.hpp"
 #include "robot_command.hpp"
-#include "tune_command.hpp"
 #include "run_command.hpp"
 #include "sim_command.hpp"
 #include "tour.hpp"
+#include "tune_command.hpp"
+#include "validators.hpp"
 
 namespace {
 
@@ -59,14 +60,17 @@ int main(int argc, char** argv) {
 
   unsigned seed = 1;
   CLI::App* tour = app.add_subcommand("tour", "Identities of lie/ checked on random elements");
-  tour->add_option("--seed", seed, "Random seed")->capture_default_str();
+  tour->add_option("--seed", seed, "Random seed")->check(seedNumber())->capture_default_str();
 
   std::string accuracyCsv;
   int accuracyPoints = 400;
   CLI::App* accuracy = app.add_subcommand(
       "lie-accuracy", "Accuracy of lie/'s angle coefficients vs naive closed forms (figure data)");
-  accuracy->add_option("--csv", accuracyCsv, "Write one row per theta to this CSV file");
+  accuracy->add_option("--csv", accuracyCsv, "Write one row per theta to this CSV file")
+      ->check(nonEmptyName());
+  // At least the two ends of the grid; a million points take about a second and 100 MB.
   accuracy->add_option("--points", accuracyPoints, "Grid points from 1e-10 to pi")
+      ->check(wholeRange(2, 1000000))
       ->capture_default_str();
 
   legkit::tools::SimCommand sim(app);

@@ -9,6 +9,7 @@
 #include "io/log_reader.hpp"
 #include "model/mujoco_kinematics.hpp"
 #include "output.hpp"
+#include "validators.hpp"
 
 namespace legkit::tools {
 namespace {
@@ -46,13 +47,18 @@ RobotCommand::RobotCommand(CLI::App& app)
           "robot", "The robot of a settings file as the kit sees it: joints, feet, mass")) {
   CLI::App& c = *command_;
   // Not CLI::ExistingFile: a file that cannot be read is an input error (exit 2) like a bad one.
-  c.add_option("settings", settings_, "Settings file whose robot section to show")->required();
+  c.add_option("settings", settings_, "Settings file whose robot section to show")
+      ->check(nonEmptyName())
+      ->required();
+  // Within a turn either way (any joint angle is one there): a larger value is in degrees.
   c.add_option(
        "--angles", angles_,
        "Joint angles [rad], comma-separated, in the joint order printed: the feet there too")
+      ->check(finiteRange(-2.0 * M_PI, 2.0 * M_PI))
       ->delimiter(',');
   c.add_option("--log", log_,
-               "A log for this robot: its joints must be the robot's; the feet at its first row");
+               "A log for this robot: its joints must be the robot's; the feet at its first row")
+      ->check(nonEmptyName());
 }
 
 int RobotCommand::run(std::ostream& out) const {

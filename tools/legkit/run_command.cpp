@@ -99,7 +99,9 @@ void writeTumTruth(std::ostream& f, const io::Log& log, double rate,
   writeTum(f, truth, rows, stamps);
 }
 
-// "all" or a rate >= 0 [Hz] ("0" also means every sample).
+// "all", 0 (both: every sample) or a rate in [1e-3, 1e6] Hz: a row every 1000 s at the least
+// (a simulated run is at most an hour), every microsecond at the most (above the log's own rate
+// it keeps every sample anyway; 1e308 was once taken as it was).
 std::string parseEstimateRate(const std::string& text, double& rate) {
   if (text == "all") {
     rate = 0.0;
@@ -111,8 +113,10 @@ std::string parseEstimateRate(const std::string& text, double& rate) {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used == 0 || used != text.size() || !std::isfinite(rate) || rate < 0.0) {
-    return "expected a rate in Hz (>= 0) or 'all', got '" + text + "'";
+  if (used == 0 || used != text.size() || !std::isfinite(rate) ||
+      !(rate == 0.0 || (rate >= 1e-3 && rate <= 1e6))) {
+    return "expected 0 or 'all' (every sample) or a rate in [0.001, 1e6] Hz, got " +
+           detail::shown(text);
   }
   return "";
 }
@@ -482,16 +486,18 @@ RunCommand::RunCommand(CLI::App& app)
                                   "Simulated time [s] (default 60; a physics scenario's own "
                                   "length, e.g. 10 s for physics-stand; with --log or --dataset: "
                                   "no effect, a warning)")
-                         ->check(finiteRange(1e-3, 3600.0));
+                         ->check(finiteRange(1e-3, kMaxSimulatedSeconds));
   seed_option_ = c.add_option("--seed", seed_,
                               "Random seed of the simulation and of the probabilistic "
                               "detector's training runs (with --log or --dataset it seeds only "
                               "the training: otherwise no effect, a warning)")
+                     ->check(seedNumber())
                      ->capture_default_str();
   // Not CLI::ExistingFile: a log that cannot be read is an input error (exit 2), whatever the
   // reason, with the reader's own message.
   CLI::Option* log =
-      c.add_option("--log", log_, "Run on this recorded log (CSV, chapters/57.0) instead");
+      c.add_option("--log", log_, "Run on this recorded log (CSV, chapters/57.0) instead")
+          ->check(nonEmptyName());  // '' once simulated a 60 s trot instead
   // A recorded log shipped with the kit: its log and its settings file (a --config given as well
   // replaces the settings).
   c.add_option("--dataset", dataset_,
@@ -506,7 +512,8 @@ RunCommand::RunCommand(CLI::App& app)
   c.add_option("--max-gap", max_gap_,
                "Longest step allowed between samples of --log [s] (default 10 median periods)")
       ->check(finiteRange(1e-6, 3600.0));
-  c.add_option("--out", out_dir_, "Output folder (default legkit-out/<scenario>-seed<seed>)");
+  c.add_option("--out", out_dir_, "Output folder (default legkit-out/<scenario>-seed<seed>)")
+      ->check(nonEmptyName());
   c.add_option_function<std::string>(
        "--estimate-rate",
        [this](const std::string& text) {
@@ -543,7 +550,8 @@ RunCommand::RunCommand(CLI::App& app)
                "Settings file (`legkit config --print` writes the defaults): the estimators that "
                "run and their noise, priors and limits, the front-end noise, the contact pipeline, "
                "the detector's thresholds and a recorded log's planned gait (contact.gait, for "
-               "--contact gait-clock). Options given on this command line override it");
+               "--contact gait-clock). Options given on this command line override it")
+      ->check(nonEmptyName());
   c.add_flag("--json", json_, "Print the summary as JSON (one object per estimator)");
   c.add_flag("--tum", tum_,
              "Also write each estimate_<name>.tum and the log's truth.tum in TUM format (t tx ty "
@@ -654,38 +662,27 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
              "training runs");
     }
   }
-  if (pipeline_options.contact == "truth" && !log.layout.contact) {
-    throw UsageError("--contact truth: " + source + " has no contact columns; choose a detector");
+  try {
+    eval::checkContactSource(pipeline_options.contact, log.layout, source);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--contact truth: ") + e.what());
   }
   // The front end: the settings' IMU extrinsic, and for a log of generic joints the legs of the
   // settings' robot section (the analytic Go2 without a model file).
   const model::ImuExtrinsic extrinsic = settings ? settings->imu_extrinsic : model::ImuExtrinsic{};
-  if (settings && !settings->robot.model.empty() && log.layout.num_joints == 0) {
-    throw InputError(config_ + ": robot.model: " + source +
-                     " has no generic joint columns (joint<k>_q) for the robot's legs");
-  }
+  const RobotSettings robot = settings ? settings->robot : RobotSettings{};
   std::unique_ptr<model::LegKinematics> legs;
   try {
-    legs = eval::logLegs(log.layout, settings ? settings->robot : RobotSettings{});
+    legs = eval::logLegs(log.layout, robot);
   } catch (const std::runtime_error& e) {
     throw InputError((settings ? config_ + ": robot.model: " : std::string()) + e.what());
   }
   // The robot's counts against the log's columns, naming both files and the key (the front end's
   // own check names neither).
-  const auto mismatch = [&](const char* key, int robot, int logged, const char* columns) {
-    const std::string counts = std::to_string(robot) + " " + key + ", " + source + " has " +
-                               std::to_string(logged) + " (" + columns + " columns)";
-    if (!settings) {
-      throw InputError("the built-in Go2 (no --config) has " + counts +
-                       ": name the robot in --config (robot.model)");
-    }
-    throw InputError(config_ + ": robot." + key + ": " + counts);
-  };
-  if (legs && legs->numJoints() != log.layout.num_joints) {
-    mismatch("joints", legs->numJoints(), log.layout.num_joints, "joint<k>_q");
-  }
-  if (legs && legs->numFeet() != log.layout.num_feet) {
-    mismatch("feet", legs->numFeet(), log.layout.num_feet, "foot<k>_");
+  try {
+    eval::checkLogRobot(log.layout, robot, legs.get(), settings ? config_ : std::string(), source);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(e.what());
   }
   const LogFrontend frontend = eval::logFrontend(log.layout, legs.get(), noise, extrinsic);
   const int num_feet = legs ? legs->numFeet() : log.layout.num_feet;

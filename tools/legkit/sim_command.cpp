@@ -15,6 +15,7 @@
 #include "scenarios.hpp"
 #include "sim/physics_simulator.hpp"
 #include "sim/simulator.hpp"
+#include "validators.hpp"
 
 namespace legkit::tools {
 namespace {
@@ -26,7 +27,8 @@ int legByName(const std::string& name) {
   throw UsageError("--slip-foot: unknown leg '" + name + "' (FL, FR, RL or RR)");
 }
 
-// "START:DURATION" in seconds.
+// "START:DURATION" in seconds: a start in [0, 3600] s and a duration in (0, 3600] s, both
+// finite (an hour, the longest simulated run: kMaxSimulatedSeconds).
 sim::Dropout parseDropout(const std::string& text) {
   const std::size_t colon = text.find(':');
   try {
@@ -34,13 +36,17 @@ sim::Dropout parseDropout(const std::string& text) {
     std::size_t used_start = 0, used_duration = 0;
     const std::string start = text.substr(0, colon), duration = text.substr(colon + 1);
     sim::Dropout d{std::stod(start, &used_start), std::stod(duration, &used_duration)};
-    if (used_start != start.size() || used_duration != duration.size() || !(d.duration > 0.0)) {
+    if (used_start != start.size() || used_duration != duration.size() ||
+        !(d.start >= 0.0 && d.start <= kMaxSimulatedSeconds) ||
+        !(d.duration > 0.0 && d.duration <= kMaxSimulatedSeconds)) {
       throw std::invalid_argument("bad numbers");
     }
     return d;
   } catch (const std::exception&) {
-    throw UsageError("--dropout: expected START:DURATION in seconds (e.g. 10:0.05), got '" + text +
-                     "'");
+    throw UsageError(
+        "--dropout: expected START:DURATION in seconds, START in [0, 3600], DURATION in (0, "
+        "3600] (e.g. 10:0.05), got " +
+        detail::shown(text));
   }
 }
 
@@ -67,10 +73,18 @@ SimCommand::SimCommand(CLI::App& app)
       ->capture_default_str();
   duration_option_ = c.add_option("--duration", duration_,
                                   "Simulated time [s], up to 3600 (default 60; a physics "
-                                  "scenario's own length, e.g. 10 s for physics-stand)");
-  c.add_option("--rate", rate_, "IMU and log rate [Hz]")->capture_default_str();
-  c.add_option("--seed", seed_, "Random seed (same seed, same log)")->capture_default_str();
-  c.add_option("--out", out_, "Log file to write")->capture_default_str();
+                                  "scenario's own length, e.g. 10 s for physics-stand)")
+                         ->check(finiteRange(1e-3, kMaxSimulatedSeconds));
+  // An IMU samples at 100 Hz to a few kHz: below 10 Hz a 2 Hz gait is not sampled, above 10 kHz
+  // no IMU reads; the physics scenarios also keep to [100 Hz, their physics rate]. Times the
+  // duration at most kMaxSimulatedSamples (run()).
+  c.add_option("--rate", rate_, "IMU and log rate [Hz], 10..10000")
+      ->check(finiteRange(10.0, 1e4))
+      ->capture_default_str();
+  c.add_option("--seed", seed_, "Random seed (same seed, same log)")
+      ->check(seedNumber())
+      ->capture_default_str();
+  c.add_option("--out", out_, "Log file to write")->check(nonEmptyName())->capture_default_str();
   c.add_flag("--noiseless", noiseless_, "No IMU or encoder noise, zero biases");
   c.add_flag("--no-ground-truth", no_ground_truth_, "Leave out the gt_ columns");
   c.add_option(
@@ -79,31 +93,51 @@ SimCommand::SimCommand(CLI::App& app)
        "diagonal (feet with variances) or full (feet with covariances)")
       ->check(CLI::IsMember({"none", "diagonal", "full"}))
       ->capture_default_str();
+  // The slip: within the longest run; a foot sliding faster than 10 m/s is not slipping, it is
+  // thrown; the direction is normalised (its scale does not matter, the cap keeps its norm
+  // finite). Each of them only with --slip-foot (they were once ignored without it).
+  slip_options_ = {c.add_option("--slip-start", slip_start_, "Slip start [s]")
+                       ->check(finiteRange(0.0, kMaxSimulatedSeconds))
+                       ->capture_default_str(),
+                   c.add_option("--slip-duration", slip_duration_, "Slip duration [s]")
+                       ->check(finiteRange(1e-3, kMaxSimulatedSeconds))
+                       ->capture_default_str(),
+                   c.add_option("--slip-speed", slip_speed_, "Slip speed [m/s], 0..10")
+                       ->check(finiteRange(0.0, 10.0))
+                       ->capture_default_str(),
+                   c.add_option("--slip-direction", slip_direction_,
+                                "Slip direction in the world: X Y (normalised; not 0 0)")
+                       ->expected(2)
+                       ->check(finiteRange(-1e3, 1e3))
+                       ->capture_default_str()};
   analytic_only_ = {
       c.add_option("--slip-foot", slip_foot_,
-                   "Fault (analytic scenarios): this foot (FL, FR, RL, RR) slips in stance"),
-      c.add_option("--slip-start", slip_start_, "Slip start [s]")->capture_default_str(),
-      c.add_option("--slip-duration", slip_duration_, "Slip duration [s]")->capture_default_str(),
-      c.add_option("--slip-speed", slip_speed_, "Slip speed [m/s]")->capture_default_str(),
-      c.add_option("--slip-direction", slip_direction_, "Slip direction in the world: X Y")
-          ->expected(2)
-          ->capture_default_str(),
+                   "Fault (analytic scenarios): this foot (FL, FR, RL, RR) slips in stance")
+          ->check(nonEmptyName()),
+      // A lag of a second is two whole trot cycles: beyond it the flags describe another step.
       c.add_option("--contact-offset", contact_offset_,
-                   "Fault (analytic): logged contact flags lag the true contacts by this [s]")
+                   "Fault (analytic): logged contact flags lag the true contacts by this [s], "
+                   "-1..1")
+          ->check(finiteRange(-1.0, 1.0))
           ->capture_default_str(),
       c.add_option("--dropout", dropouts_,
                    "Fault (analytic): no IMU samples in START:DURATION [s]; repeatable"),
+      // Below 1: some samples must be left (the simulator refuses a log without any).
       c.add_option("--dropout-probability", dropout_probability_,
-                   "Fault (analytic): each IMU sample is lost with this probability")
+                   "Fault (analytic): each IMU sample is lost with this probability, 0..0.99")
+          ->check(finiteRange(0.0, 0.99))
           ->capture_default_str()};
+  analytic_only_.insert(analytic_only_.end(), slip_options_.begin(), slip_options_.end());
   analytic_only_.push_back(c.get_option("--foot-columns"));
   friction_option_ = c.add_option("--friction", friction_,
                                   "Physics: friction coefficient of the ground, 0.01..2 (patches "
                                   "such as the ice keep their own)")
+                         ->check(finiteRange(0.01, 2.0))
                          ->capture_default_str();
   push_option_ = c.add_option("--push", push_,
                               "Physics: lateral push on the standing trunk [N], 0..300 (the push "
-                              "scenarios: physics-push, physics-ice-push)");
+                              "scenarios: physics-push, physics-ice-push)")
+                     ->check(finiteRange(0.0, 300.0));
   std::vector<std::string> estimators = estimatorNames();
   std::string estimator_list;
   for (const std::string& n : estimators)
@@ -116,7 +150,6 @@ SimCommand::SimCommand(CLI::App& app)
 }
 
 int SimCommand::run(std::ostream& out) const {
-  if (duration_option_->count() > 0) checkRange("--duration", duration_, 1e-3, 3600.0, " s");
   return isPhysicsScenario(scenario_) ? runPhysics(out) : runAnalytic(out);
 }
 
@@ -125,6 +158,20 @@ int SimCommand::runAnalytic(std::ostream& out) const {
     if (o->count() > 0) {
       throw UsageError(o->get_name() + ": only for the physics scenarios (" + scenarioHelp() + ")");
     }
+  }
+  if (duration_ * rate_ > kMaxSimulatedSamples) {
+    std::ostringstream os;
+    os << "--duration " << duration_ << " s at --rate " << rate_ << " Hz: " << duration_ * rate_
+       << " samples, at most " << kMaxSimulatedSamples << " (an hour at 1 kHz; about 2 kB each)";
+    throw UsageError(os.str());
+  }
+  for (const CLI::Option* o : slip_options_) {
+    if (o->count() > 0 && slip_foot_.empty()) {
+      throw UsageError(o->get_name() + ": only with --slip-foot (the foot that slips)");
+    }
+  }
+  if (!slip_foot_.empty() && slip_direction_[0] == 0.0 && slip_direction_[1] == 0.0) {
+    throw UsageError("--slip-direction: 0 0 has no direction");
   }
   sim::SimOptions options;
   options.scenario = sim::scenarioByName(scenario_);

@@ -32,6 +32,7 @@ class SimCommand {
   CLI::App* command_;
   CLI::Option* duration_option_;
   std::vector<CLI::Option*> analytic_only_;  // the fault and foot-column options
+  std::vector<CLI::Option*> slip_options_;   // --slip-start, ... (only with --slip-foot)
   CLI::Option* friction_option_;
   CLI::Option* push_option_;
   CLI::Option* closed_loop_option_;

@@ -3,8 +3,12 @@
 // predictive controller querying it at its own rate. Prints the time per update, the MPC
 // queries' ages and what those ages cost, and (with ground truth) the errors; --out writes the
 // states. The log goes through the checks and the front end of `legkit run` (its time base, then
-// estimation/log_conditioning.hpp); the robot, its noise and the pipeline come from --config (the
-// quadruped's joints, or generic joints with the settings' robot), the options override it.
+// estimation/log_conditioning.hpp, the robot against its columns: eval/log_run.hpp); the robot,
+// its noise and the pipeline come from --config (the quadruped's joints, or generic joints with
+// the settings' robot), the options override it. The exit codes are `legkit run`'s: 1 a wrong
+// option (each names itself), 2 an input that cannot be used (naming the file and line, or the
+// settings' key) or an output not written, 3 a run whose filter failed (naming the log's line),
+// had to recover or could not use more than eval::kMaxRejectedShare of its input.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -12,22 +16,30 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "estimation/contact/detectors.hpp"
+#include "estimation/estimators.hpp"
 #include "estimation/log_conditioning.hpp"
 #include "estimation/settings.hpp"
 #include "estimation/state_estimator.hpp"
+#include "eval/log_run.hpp"
 #include "eval/metrics.hpp"
 #include "eval/runner.hpp"
 #include "io/log_reader.hpp"
+#include "output.hpp"
 #include "validators.hpp"
 
 namespace {
 
 using namespace legkit;
+using tools::InputError;
+using tools::OutputError;
+using tools::UsageError;
 
 // The log's truth position at time t >= rows[k].t (linear between the two rows around t; the
 // last row's after the log's end).
@@ -46,19 +58,25 @@ struct Options {
   std::optional<std::string> estimator;  // unset: the settings' first estimator
   std::optional<std::string> contact;    // unset: the settings' detector
   std::optional<double> settle;          // unset: the settings' settling
-  double init_duration = -1.0;           // [s] still window; 0: off; < 0: the settings' default
+  std::optional<double> init_duration;   // [s] still window; 0: off; unset: the settings'
   // [s] without a still window before the manager gives up and starts from the last samples' tilt
   // (the settings' 10 s would take a whole simulated 10 s log; 0.8 s is within the simulated
   // scenarios' 1 s stand).
   double init_wait = 0.8;
-  double mpc_rate = 100.0;      // [Hz]
-  double mpc_latency = 0.0025;  // [s] the MPC's clock ahead of the newest IMU sample
+  double mpc_rate = 100.0;        // [Hz]
+  double mpc_latency = 0.0025;    // [s] the MPC's clock ahead of the newest IMU sample
+  std::optional<double> max_gap;  // [s] unset: 10 median periods (checkTimeBase)
   std::string out;
 };
 
+// Where a setting came from, for its errors: the option when given, else the settings file's key.
+std::string origin(bool option_given, const std::string& option, const std::string& config,
+                   const std::string& key) {
+  if (option_given || config.empty()) return option;
+  return config + ": " + key;
+}
+
 int run(const Options& o) {
-  if (!(o.mpc_rate > 0.0)) throw std::invalid_argument("--mpc-rate must be positive");
-  if (!(o.mpc_latency >= 0.0)) throw std::invalid_argument("--mpc-latency must be >= 0");
   // Without a settings file: the invariant EKF on the Schmitt trigger, no settling (the options'
   // defaults before settings files); with one, its values unless an option is given.
   Settings settings;
@@ -85,11 +103,36 @@ int run(const Options& o) {
                                 ": generic joint columns (joint<k>_q) need the "
                                 "robot's model: --config with a robot: section");
   }
-  checkTimeBase(log, std::nullopt, "legkit run --max-gap");
-  const ConditioningReport conditioning = condition(log, settings.conditioning);
+  // The checks `legkit run --log` makes, with its messages: the time base (file and line), the
+  // front end's conditioning, the robot against the log's columns, the contact source.
+  checkTimeBase(log, o.max_gap, "--max-gap");
+  ConditioningReport conditioning;
+  try {
+    conditioning = condition(log, settings.conditioning);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(o.log_path + ": " + e.what());
+  }
+  std::unique_ptr<model::LegKinematics> legs;
+  try {
+    legs = eval::logLegs(log.layout, settings.robot);
+  } catch (const std::runtime_error& e) {
+    throw InputError((o.config.empty() ? std::string() : o.config + ": robot.model: ") + e.what());
+  }
+  eval::checkLogRobot(log.layout, settings.robot, legs.get(), o.config, o.log_path);
+  const std::string& contact = settings.pipeline.contact;
+  const std::string contact_origin = origin(o.contact.has_value(), "--contact " + contact, o.config,
+                                            "contact.detector: " + contact);
+  try {
+    eval::checkContactSource(contact, log.layout, o.log_path);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(contact_origin + ": " + e.what());
+  }
+  const int num_feet = legs ? legs->numFeet() : log.layout.num_feet;
+  if (contact == "gait-clock" && !gaitSchedule(settings, num_feet)) {
+    throw UsageError(contact_origin + ": " + eval::noGait());
+  }
   if (o.init_duration == 0.0) settings.initialisation.enabled = false;
-  if (o.init_duration > 0.0) settings.initialisation.duration = o.init_duration;
-  if (!(o.init_wait >= 0.0)) throw std::invalid_argument("--init-wait must be >= 0");
+  if (o.init_duration > 0.0) settings.initialisation.duration = *o.init_duration;
   settings.initialisation.max_wait = o.init_wait;
   StateEstimator manager(settings);
   // As `legkit run` does: from the truth's first row when there is one (else the manager's own
@@ -102,9 +145,9 @@ int run(const Options& o) {
   std::ofstream out;
   if (!o.out.empty()) {
     out.open(o.out);
-    if (!out) throw std::runtime_error("cannot write " + o.out);
+    if (!out) throw OutputError("cannot write " + o.out + " (--out)");
     out << "t,initialised,qw,qx,qy,qz,vx,vy,vz,px,py,pz,sigma_px,sigma_py,sigma_pz";
-    for (int f = 0; f < io::kNumLegs; ++f) out << ",contact_" << f << ",p_c_" << f;
+    for (int f = 0; f < num_feet; ++f) out << ",contact_" << f << ",p_c_" << f;
     out << "\n" << std::setprecision(9);
   }
 
@@ -121,6 +164,9 @@ int run(const Options& o) {
   int queries = 0;
   std::optional<double> start_t;  // the filter's first sample
   double age_sum = 0.0, hold_error_sum = 0.0, hold_error_max = 0.0;
+  // As runOnLog's: the filter threw on a row, or handed back an estimate or a covariance that
+  // cannot be used: the run stops there, naming the log's line (exit 3).
+  std::optional<eval::RunFailure> failure;
   for (std::size_t k = 0; k < log.rows.size(); ++k) {
     const io::LogRow& row = log.rows[k];
     imu = {row.t, row.gyro, row.acc};
@@ -132,14 +178,26 @@ int run(const Options& o) {
       joints.q.head<io::kNumJoints>() = row.q;
       joints.dq.head<io::kNumJoints>() = row.dq;
     }
-    for (int f = 0; f < io::kNumLegs; ++f) {
+    for (int f = 0; f < num_feet; ++f) {  // the robot's feet, which checkLogRobot matched
       forces.force[f] = row.force[f];
       forces.contact[f] = row.contact[f];
     }
     const auto t0 = std::chrono::steady_clock::now();
-    const EstimatorOutput& x = manager.update(imu, joints, forces);
+    try {
+      manager.update(imu, joints, forces);
+    } catch (const std::exception& e) {
+      failure = eval::failureAt(log, k, eval::threwReason(e));
+      break;
+    }
     us.push_back(
         std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+    const EstimatorOutput& x = manager.output();
+    const std::string unusable =
+        eval::unusableEstimate(x.x, x.initialised && x.has_covariance ? &x.P : nullptr);
+    if (!unusable.empty()) {
+      failure = eval::failureAt(log, k, unusable);
+      break;
+    }
     states.push_back(x.x);
     if (out.is_open()) {
       out << x.x.t << ',' << (x.initialised ? 1 : 0) << ',' << x.x.q.w() << ',' << x.x.q.x() << ','
@@ -148,7 +206,7 @@ int run(const Options& o) {
       for (int i = 6; i < 9; ++i) {
         out << ',' << (x.has_covariance ? std::sqrt(x.P.P(i, i)) : std::nan(""));
       }
-      for (int f = 0; f < io::kNumLegs; ++f) {
+      for (int f = 0; f < num_feet; ++f) {
         const contact::FootContact& c = x.contacts.feet[f];
         out << ',' << (c.usable() && c.contact ? 1 : 0) << ','
             << (c.usable() ? c.probability : 0.0);
@@ -175,7 +233,17 @@ int run(const Options& o) {
       }
     }
   }
-  if (out.is_open() && !out) throw std::runtime_error("error while writing " + o.out);
+  if (out.is_open()) {
+    out.close();
+    if (!out) throw OutputError("cannot write " + o.out + " (--out): the writing failed");
+  }
+  if (failure) {
+    std::cout << "log " << o.log_path << ": " << log.rows.size() << " rows\n"
+              << "settings: " << (o.config.empty() ? "the defaults" : o.config) << "\n"
+              << "front end: " << conditioning.describe() << "\n"
+              << "FAILED " << manager.estimatorName() << ": " << eval::describe(*failure) << "\n";
+    return tools::kExitUnhealthy;
+  }
 
   std::vector<double> sorted = us;
   std::sort(sorted.begin(), sorted.end());
@@ -195,7 +263,7 @@ int run(const Options& o) {
   if (!start_t) {
     std::cout << "no still window found and the log ended before --init-wait: the filter never "
                  "started (--init 0 starts it at once)\n";
-    return 2;
+    return tools::kExitInput;
   }
   std::cout << "filter started at t = " << *start_t << " s ("
             << startModeName(manager.output().start) << ")\n";
@@ -214,61 +282,108 @@ int run(const Options& o) {
               << m.yaw_rmse_deg << " deg (started from the truth's first row)\n";
   }
   const Health& h = manager.output().health;
-  std::cout << "health: " << h.total() << " faults\n";
+  std::cout << "health: " << h.total() << " faults";
+  if (h.total() > 0) std::cout << " (" << eval::describe(h) << ")";
+  std::cout << "\n";
   if (!o.out.empty()) std::cout << "states written to " << o.out << "\n";
   // As legkit run: a filter that had to recover, or that could not use more than
   // eval::kMaxRejectedShare of its input, is a failed run (exit 3).
   if (!h.healthy()) {
     std::cout << "the filter had to recover " << h[Fault::kStateUnhealthy]
               << " time(s): its state is not to be trusted\n";
-    return 3;
+    return tools::kExitUnhealthy;
   }
   if (eval::voided(h, log.rows.size())) {
-    std::cout << eval::rejectedInputs(h) << " of " << log.rows.size()
-              << " samples' input rejected (more than " << 100.0 * eval::kMaxRejectedShare
-              << " %): check the settings' limits and priors\n";
-    return 3;
+    std::cout << "VOID " << manager.estimatorName() << ": " << eval::rejectedInputs(h) << " of "
+              << log.rows.size() << " samples' input rejected (more than "
+              << 100.0 * eval::kMaxRejectedShare << " %): check the settings' limits and priors\n";
+    return tools::kExitUnhealthy;
   }
-  return 0;
+  return tools::kExitOk;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  using legkit::tools::finiteRange;
+  using legkit::tools::nonEmptyName;
   CLI::App app{"legkit-estimate: the estimator manager (57.11) on a log, row by row"};
+  app.footer(
+      "Exit codes (legkit run --log's): 0 done, the filter healthy; 1 the command line was wrong\n"
+      "(an option out of its range: the error names it); 2 the input could not be used (the\n"
+      "error names the file and line, or the settings' key) or an output not written; 3 the run\n"
+      "failed at a row of the log (FAILED names it), the filter had to recover, or it could not\n"
+      "use more than 5 % of its input (VOID with the counts).");
   Options o;
-  app.add_option("log", o.log_path, "Log (CSV) with joint and foot-force columns")->required();
+  app.add_option("log", o.log_path, "Log (CSV) with joint and foot-force columns")
+      ->required()
+      ->check(nonEmptyName());
   app.add_option("--config", o.config,
                  "Settings file (legkit config --print): the robot, its noise, the pipeline; the "
-                 "options below override it");
+                 "options below override it")
+      ->check(nonEmptyName());
   app.add_option("--estimator", o.estimator,
-                 "Filter (default: the settings' first estimator, invariant-ekf without --config)");
+                 "Filter (default: the settings' first estimator, invariant-ekf without --config)")
+      ->check(CLI::IsMember(legkit::estimatorNames()));
+  std::vector<std::string> contacts = {"truth"};
+  for (const std::string& name : legkit::contact::detectorNames()) contacts.push_back(name);
   app.add_option("--contact", o.contact,
                  "Contact detector, or truth for the log's flags (default: the settings', schmitt "
-                 "without --config)");
+                 "without --config)")
+      ->check(CLI::IsMember(contacts));
   app.add_option("--settle", o.settle,
-                 "Touchdown settling [s] (default: the settings', 0 without --config)")
-      ->check(legkit::tools::finiteRange(0.0, 1.0));
+                 "Touchdown settling [s] (default: the settings', 0 without --config; 1 s at most, "
+                 "as in the settings file)")
+      ->check(finiteRange(0.0, 1.0));
+  // initialisation.duration's range in the settings file, and 0 for off.
   app.add_option("--init", o.init_duration,
-                 "Stationary initialisation window [s] on a log without truth (0: off; default: "
-                 "the settings' 2 s)");
+                 "Stationary initialisation window [s] on a log without truth (0: off, else 0.01 "
+                 "to 60; default: the settings' 2 s)")
+      ->check(finiteRange(0.0, 60.0))
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            double value = 0.0;
+            CLI::detail::lexical_cast(text, value);
+            return value > 0.0 && value < 0.01 ? "must be 0 (off) or in [0.01, 60], got " + text
+                                               : std::string();
+          },
+          ""));
   app.add_option("--init-wait", o.init_wait,
                  "Without a still window after this long [s], start from the tilt of the last "
-                 "samples")
-      ->capture_default_str();
-  app.add_option("--mpc-rate", o.mpc_rate, "MPC query rate [Hz]")->capture_default_str();
+                 "samples (initialisation.max_wait's range)")
+      ->capture_default_str()
+      ->check(finiteRange(0.0, 3600.0));
+  app.add_option("--mpc-rate", o.mpc_rate, "MPC query rate [Hz]")
+      ->capture_default_str()
+      ->check(finiteRange(1.0, 1e4));
   app.add_option("--mpc-latency", o.mpc_latency, "MPC clock ahead of the newest IMU sample [s]")
-      ->capture_default_str();
-  app.add_option("--out", o.out, "Write the states (CSV)");
+      ->capture_default_str()
+      ->check(finiteRange(0.0, 1.0));
+  app.add_option("--max-gap", o.max_gap,
+                 "Longest step allowed between samples of the log [s] (default 10 median "
+                 "periods), as legkit run --max-gap")
+      ->check(finiteRange(1e-6, 3600.0));
+  app.add_option("--out", o.out, "Write the states (CSV)")->check(nonEmptyName());
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 1;
+    return app.exit(e) == 0 ? legkit::tools::kExitOk : legkit::tools::kExitUsage;
   }
+  int status = legkit::tools::kExitInput;
   try {
-    return run(o);
-  } catch (const std::exception& e) {
+    status = run(o);
+  } catch (const legkit::tools::UsageError& e) {
     std::cerr << "legkit-estimate: " << e.what() << "\n";
-    return 2;
+    return legkit::tools::kExitUsage;
+  } catch (const std::exception& e) {  // the input or an output: LogError, InputError, ...
+    std::cerr << "legkit-estimate: " << e.what() << "\n";
+    return legkit::tools::kExitInput;
   }
+  // A report that did not reach its reader is not done (stdout on a full disk).
+  std::cout.flush();
+  if (!std::cout) {
+    std::cerr << "legkit-estimate: cannot write the standard output\n";
+    return legkit::tools::kExitInput;
+  }
+  return status;
 }

@@ -64,13 +64,18 @@ StudyCommand::StudyCommand(CLI::App& app)
     // Unset they stay 0, the study's own; given, each is checked (0, -1 or NaN once fell back to
     // the default silently).
     c->add_option("--runs", runs_, "Monte Carlo runs (per setting); default: the study's own")
-        ->check(CLI::Range(1, 10000));
+        ->check(wholeRange(1, 10000));
     c->add_option("--duration", duration_, "Simulated time per run [s]; default: the study's own")
-        ->check(finiteRange(1e-3, 3600.0));
+        ->check(finiteRange(1e-3, kMaxSimulatedSeconds));
     c->add_option("--seed", seed_, "Seed of the first run (run j uses seed + j)")
+        ->check(seedNumber())
         ->capture_default_str();
-    c->add_option("--threads", threads_, "Worker threads (0: every core)")->capture_default_str();
-    c->add_option("--out", out_dir_, "Output folder (default legkit-out/study-<name>)");
+    // -1 once meant every core, silently; more than 256 workers is a typo, not a machine.
+    c->add_option("--threads", threads_, "Worker threads (0: every core)")
+        ->check(wholeRange(0, 256))
+        ->capture_default_str();
+    c->add_option("--out", out_dir_, "Output folder (default legkit-out/study-<name>)")
+        ->check(nonEmptyName());
     c->add_flag("!--no-plots", plots_, "Do not draw the PNG figure");
   }
 }

@@ -31,6 +31,7 @@
 #include "scenarios.hpp"
 #include "sim/physics_simulator.hpp"
 #include "study_filters.hpp"
+#include "validators.hpp"
 
 namespace legkit::tools {
 namespace {
@@ -308,28 +309,41 @@ StudyContact::StudyContact(CLI::App& study) {
       "slip",
       "Slip detection and reactions on ice, every filter on true vs detected contacts (57.7)");
   for (CLI::App* c : {contact_, slip_}) {
-    c->add_option("--seed", seed_, "Seed of the simulated runs")->capture_default_str();
+    c->add_option("--seed", seed_, "Seed of the simulated runs")
+        ->check(seedNumber())
+        ->capture_default_str();
+    // A second at the least: a touchdown and a lift-off of the trot (0, -1 and NaN once fell
+    // back to the default); at most the longest simulated run.
     c->add_option("--duration", duration_,
-                  "Simulated time per scenario [s] (runs with a push end 1 s after it at least); "
-                  "default: the study's own");
-    c->add_option("--out", out_dir_, "Output folder (default legkit-out/study-<name>)");
+                  "Simulated time per scenario [s], 1..3600 (runs with a push end 1 s after it "
+                  "at least); default: the study's own")
+        ->check(finiteRange(1.0, kMaxSimulatedSeconds));
+    c->add_option("--out", out_dir_, "Output folder (default legkit-out/study-<name>)")
+        ->check(nonEmptyName());
     c->add_flag("!--no-plots", plots_, "Do not draw the PNG figures");
+    // Each name checked by subset() (run): '' would have meant every scenario.
     c->add_option("--scenarios", scenarios_,
                   "Only these of the study's scenarios (comma-separated; default: all of them)")
+        ->check(nonEmptyName())
         ->delimiter(',');
   }
   contact_
       ->add_option("--filter", filter_,
                    "The estimator run on each detector's contacts (its estimate is the "
                    "detectors' base feedback)")
+      ->check(CLI::IsMember(estimatorNames()))
       ->capture_default_str();
+  std::vector<std::string> sources = {"truth"};
+  for (const std::string& name : contact::detectorNames()) sources.push_back(name);
   slip_
       ->add_option("--contact", contact_source_,
                    "Contact source of the slip runs: truth or a detector name")
+      ->check(CLI::IsMember(sources))
       ->capture_default_str();
   slip_
       ->add_option("--filters", filters_,
                    "Only these filters (comma-separated; default: every filter)")
+      ->check(nonEmptyName())
       ->delimiter(',');
 }
 
@@ -363,6 +377,9 @@ int StudyContact::run(std::ostream& out) const {
 // its own contacts through the contact pipeline, scored against gt_feet[].contact.
 int StudyContact::contact(std::ostream& out) const {
   const double duration = duration_ > 0 ? duration_ : 10.0;
+  // The options first: an unknown scenario once waited for the training below (8 s).
+  const std::vector<std::string> scenarios =
+      subset(sim::physicsScenarioNames(), scenarios_, "--scenarios");
   const fs::path dir = out_dir_.empty() ? fs::path("legkit-out/study-contact") : fs::path(out_dir_);
   makeOutputFolder(dir);
   try {
@@ -375,8 +392,6 @@ int StudyContact::contact(std::ostream& out) const {
   // Trained on its own runs (seeds seed + 1000.., eval/contact_training.hpp), not these.
   const contact::LogisticModel logistic = eval::trainContactModel(seed_);
   const std::vector<std::string> detectors = contact::detectorNames();
-  const std::vector<std::string> scenarios =
-      subset(sim::physicsScenarioNames(), scenarios_, "--scenarios");
 
   std::ostringstream csv = newCsv(), trace = newCsv();
   csv << "# seed " << seed_ << " duration " << duration << " filter " << filter_ << '\n'
@@ -505,11 +520,10 @@ int StudyContact::contact(std::ostream& out) const {
 // trot with true contacts and with detected ones.
 int StudyContact::slip(std::ostream& out) const {
   const double duration = duration_ > 0 ? duration_ : 10.0;
-  const fs::path dir = out_dir_.empty() ? fs::path("legkit-out/study-slip") : fs::path(out_dir_);
-  makeOutputFolder(dir);
   const std::vector<std::string> scenarios =
       subset({"physics-ice", "physics-ice-push", "physics-ice-aware", "physics-trot"}, scenarios_,
              "--scenarios");
+  const fs::path dir = out_dir_.empty() ? fs::path("legkit-out/study-slip") : fs::path(out_dir_);
   const std::vector<slip::SlipReaction> reactions = {
       slip::SlipReaction::kNone, slip::SlipReaction::kInflate, slip::SlipReaction::kDrop,
       slip::SlipReaction::kImuOnly};
@@ -519,6 +533,7 @@ int StudyContact::slip(std::ostream& out) const {
       std::find(detectors.begin(), detectors.end(), contact_source_) == detectors.end()) {
     throw UsageError("--contact: neither truth nor a detector: " + contact_source_);
   }
+  makeOutputFolder(dir);  // after the options' checks: a bad one leaves no folder
   Progress progress = stderrProgress();
   progress.run("slip, training the logistic model", 0, 1);
   const contact::LogisticModel logistic = eval::trainContactModel(seed_);

@@ -14,6 +14,7 @@
 #include "eval/fault_injection.hpp"
 #include "eval/runner.hpp"
 #include "sim/physics_simulator.hpp"
+#include "validators.hpp"
 
 namespace legkit::tools {
 
@@ -64,7 +65,9 @@ StudyFaults::StudyFaults(CLI::App& study)
           "faults",
           "Section 57.9's faults on a 3 s physics trot: the monitor's alarms and "
           "answers (chapter 57.9's troubleshooting table)")) {
-  faults_->add_option("--seed", seed_, "Seed of the physics trot")->capture_default_str();
+  faults_->add_option("--seed", seed_, "Seed of the physics trot")
+      ->check(seedNumber())
+      ->capture_default_str();
   faults_->add_option("--filter", filter_, "The estimator run on the recommended contact chain")
       ->check(CLI::IsMember(estimatorNames()))
       ->capture_default_str();

@@ -203,9 +203,10 @@ CLI::App* addStudyFusion(CLI::App& study) {
       "Proprioception alone against exteroceptive fusion on a long physics trot around a circle "
       "with simulated SLAM poses (section 57.8)");
   c->add_option("--duration", "Simulated time [s] (default 330: about 160 m; --quick: 30)")
-      ->check(finiteRange(5.0, 3600.0));
-  c->add_option("--seed", "Seed of the physics run and of the poses (default 1)");
-  c->add_option("--out", "Output folder (default legkit-out/study-fusion)");
+      ->check(finiteRange(5.0, kMaxSimulatedSeconds));
+  c->add_option("--seed", "Seed of the physics run and of the poses (default 1)")
+      ->check(seedNumber());
+  c->add_option("--out", "Output folder (default legkit-out/study-fusion)")->check(nonEmptyName());
   c->add_flag("--quick", "A 30 s run (the test's)");
   c->add_flag("--no-plots", "Do not draw the figures");
   return c;

@@ -28,15 +28,19 @@ TuneCommand::TuneCommand(CLI::App& app)
           "tune",
           "Noise settings fitted to a recorded log, reported on a part the fit never saw")) {
   CLI::App& c = *command_;
-  c.add_option("log", log_, "The recorded log (the kit's CSV format)")->required();
-  c.add_option("--config", config_, "Settings file to start from (default: the kit's)");
+  c.add_option("log", log_, "The recorded log (the kit's CSV format)")
+      ->check(nonEmptyName())
+      ->required();
+  c.add_option("--config", config_, "Settings file to start from (default: the kit's)")
+      ->check(nonEmptyName());  // '' once started from the defaults
   c.add_option("--estimator", estimator_, "The filter whose score is fitted")
       ->check(CLI::IsMember(estimatorNames()))
       ->capture_default_str();
   c.add_option("--fit-share", fit_share_, "Share of the rows fitted (the rest is reported)")
       ->check(finiteRange(0.05, 0.95))
       ->capture_default_str();
-  c.add_option("--out", out_, "The tuned settings file (default legkit-out/<log>-tuned.yaml)");
+  c.add_option("--out", out_, "The tuned settings file (default legkit-out/<log>-tuned.yaml)")
+      ->check(nonEmptyName());
 }
 
 int TuneCommand::run(std::ostream& out) const {
