@@ -21,15 +21,21 @@ namespace {
 using test::runLegkit;
 constexpr auto summary = test::readSummary;
 
+// A 3 s physics trot, `trot.csv` in dir: the log both tests run on.
+void simulateTrot(const fs::path& dir) {
+  std::string output;
+  REQUIRE(runLegkit(dir,
+                    {"sim", "--scenario", "physics-trot", "--duration", "3", "--out", "trot.csv"},
+                    output) == 0);
+}
+
 }  // namespace
 
 TEST_CASE("legkit run: per-foot contact diagnostics add up; a failed sensor hands its foot over",
           "[cli][57.6]") {
   const test::ScratchFolder dir("run-diagnostics");
   std::string output;
-  REQUIRE(runLegkit(dir.path,
-                    {"sim", "--scenario", "physics-trot", "--duration", "3", "--out", "trot.csv"},
-                    output) == 0);
+  simulateTrot(dir.path);
   io::Log log = io::readLog((dir.path / "trot.csv").string());
   REQUIRE(log.layout.force);
   // FL's force sensor reads -50 N (a faulty sensor: below the Schmitt trigger's negative limit)
@@ -78,9 +84,7 @@ TEST_CASE("legkit run: stance-foot innovations larger than their covariance are 
           "[cli][real-robot]") {
   const test::ScratchFolder dir("run-nis");
   std::string output;
-  REQUIRE(runLegkit(dir.path,
-                    {"sim", "--scenario", "physics-trot", "--duration", "3", "--out", "trot.csv"},
-                    output) == 0);
+  simulateTrot(dir.path);
   const std::vector<std::string> run = {"run", "--log", "trot.csv", "--no-plots"};
   const auto with = [](std::vector<std::string> a, const std::vector<std::string>& b) {
     a.insert(a.end(), b.begin(), b.end());
