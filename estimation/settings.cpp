@@ -10,11 +10,6 @@
 #include <stdexcept>
 
 #include "estimation/estimators.hpp"
-#include "estimation/imu/dead_reckoning_estimator.hpp"
-#include "estimation/invariant/eskf.hpp"
-#include "estimation/invariant/tsif.hpp"
-#include "estimation/leg_odometry/leg_odometry_estimator.hpp"
-#include "estimation/linear_kf/linear_kf.hpp"
 #include "io/yaml_reader.hpp"
 
 namespace legkit {
@@ -792,73 +787,6 @@ contact::DetectorContext detectorContext(const Settings& settings, double mass, 
   c.schmitt.t_off = t.t_off;
   c.schmitt.stuck_time = t.stuck_time;
   return c;
-}
-
-std::unique_ptr<Estimator> makeEstimator(const std::string& name, const Settings& s) {
-  const auto priors = [&s](auto& p) {  // the filters with a full base and bias state
-    p.imu = s.imu;
-    p.limits = s.limits;
-    p.foot_swing_density = s.feet.swing_density;
-    p.sigma_attitude = s.priors.sigma_attitude;
-    p.sigma_velocity = s.priors.sigma_velocity;
-    p.sigma_position = s.priors.sigma_position;
-    p.sigma_gyro_bias = s.priors.sigma_gyro_bias;
-    p.sigma_accel_bias = s.priors.sigma_accel_bias;
-    p.feet_correct_yaw = s.feet.correct_yaw;
-    p.gating = s.gating;
-  };
-  if (name == "imu-dead-reckoning") return std::make_unique<imu::DeadReckoningEstimator>(s.limits);
-  if (name == "leg-odometry") {
-    return std::make_unique<leg_odometry::LegOdometryEstimator>(s.limits);
-  }
-  if (name == "linear-kf") {
-    linear_kf::LinearKfParams p;
-    p.imu = s.imu;
-    p.limits = s.limits;
-    p.foot_stance_density = s.feet.stance_density;
-    p.foot_swing_density = s.linear_kf.foot_swing_density;
-    p.use_leg_velocity = s.linear_kf.use_leg_velocity;
-    p.foot_velocity_sigma = s.linear_kf.foot_velocity_sigma;
-    p.model_attitude_error = s.linear_kf.model_attitude_error;
-    p.attitude_correlation_time = s.linear_kf.attitude_correlation_time;
-    p.accel_compensation_time = s.linear_kf.accel_compensation_time;
-    p.sigma_position = s.priors.sigma_position;
-    p.sigma_velocity = s.priors.sigma_velocity;
-    p.foot_init_sigma = s.priors.foot_init_sigma;
-    p.attitude.imu = s.imu;
-    p.attitude.k_P = s.linear_kf.k_P;
-    p.attitude.k_I = s.linear_kf.k_I;
-    p.attitude.accel_tolerance = s.linear_kf.accel_tolerance;
-    p.attitude.sigma_tilt = s.linear_kf.sigma_tilt;
-    p.attitude.sigma_yaw = s.linear_kf.sigma_yaw;
-    p.attitude.sigma_gyro_bias = s.priors.sigma_gyro_bias;
-    p.gating = s.gating;
-    return std::make_unique<linear_kf::LinearKf>(p);
-  }
-  if (name == "eskf") {
-    invariant::EskfParams p;
-    priors(p);
-    p.foot_stance_density = s.feet.stance_density;
-    p.foot_init_sigma = s.priors.foot_init_sigma;
-    return std::make_unique<invariant::Eskf>(p);
-  }
-  if (name == "invariant-ekf") {
-    invariant::InvariantEkfParams p;
-    priors(p);
-    p.foot_density = s.feet.stance_density;
-    p.discretisation = s.invariant_ekf.discretisation;
-    p.touchdown_attitude = s.invariant_ekf.touchdown_attitude;
-    return std::make_unique<invariant::InvariantEkf>(p);
-  }
-  if (name == "tsif") {
-    invariant::TsifParams p;
-    priors(p);
-    p.foot_stance_density = s.feet.stance_density;
-    p.foot_init_sigma = s.priors.foot_init_sigma;
-    p.iterations = s.tsif.iterations;
-    return std::make_unique<invariant::Tsif>(p);
-  }
-  return makeEstimator(name);  // throws, listing the known names
 }
 
 }  // namespace legkit

@@ -195,9 +195,8 @@ double robotMass(const Settings& settings, const model::LegKinematics* legs);
 // threshold scaled to its weight (contact::scaleForcesToRobot), then the forces contact.schmitt
 // sets, and its times. The built-in Go2 gets the kit's Go2 design unchanged.
 contact::DetectorContext detectorContext(const Settings& settings, double mass, int num_feet);
-// An estimator of estimatorNames() with its parameters from the settings: the IMU densities, the
-// limits, the priors, the feet and its own section. Throws std::invalid_argument for an unknown
-// name (listing the known ones).
-std::unique_ptr<Estimator> makeEstimator(const std::string& name, const Settings& settings);
+// The estimators themselves, made from these settings: makeEstimator(name, settings) in
+// estimation/estimators.hpp (legkit_estimators), so that reading a settings file does not link
+// every filter.
 
 }  // namespace legkit

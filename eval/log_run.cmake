@@ -3,7 +3,8 @@
 # (MuJoCo), which the rest of eval/ does not.
 add_library(legkit_log_run STATIC ${CMAKE_CURRENT_SOURCE_DIR}/log_run.cpp)
 target_include_directories(legkit_log_run PUBLIC ${PROJECT_SOURCE_DIR})
-target_link_libraries(legkit_log_run PUBLIC legkit_eval legkit_settings legkit_mujoco_kinematics)
+target_link_libraries(legkit_log_run PUBLIC legkit_eval legkit_settings legkit_estimators
+                                             legkit_mujoco_kinematics)
 
 # `legkit tune` (eval/tuning.hpp): noise settings fitted on one part of a log, reported on the other.
 add_library(legkit_tuning STATIC ${CMAKE_CURRENT_SOURCE_DIR}/tuning.cpp)

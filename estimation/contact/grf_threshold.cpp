@@ -15,40 +15,44 @@ FootForceReader::FootForceReader(ForceSource source, const ForceChecks& checks,
   if (source == ForceSource::kJointTorque) torque_.emplace(geometry, inertia);
 }
 
-void FootForceReader::read(const ContactSignals& s, std::array<double, kMaxFeet>& force,
-                           std::array<const char*, kMaxFeet>& problem) {
-  problem.fill(nullptr);
+ContactEstimate FootForceReader::read(const ContactSignals& s, const char* who) {
+  checkSignals(s, who);
+  ContactEstimate out;
+  out.t = s.t;
+  out.num_feet = s.num_feet;
   if (source_ == ForceSource::kJointTorque) {
     std::array<const char*, model::kNumLegs> why{};
     const std::array<Eigen::Vector3d, model::kNumLegs> lambda = torque_->estimate(s, &why);
     for (int i = 0; i < s.num_feet; ++i) {
       if (i >= model::kNumLegs) {
-        force[i] = std::numeric_limits<double>::quiet_NaN();
-        problem[i] = "foot is not one of the quadruped's legs";
+        out.feet[i].force = std::numeric_limits<double>::quiet_NaN();
+        out.feet[i].problem = "foot is not one of the quadruped's legs";
         continue;
       }
-      force[i] = lambda[i].z();
-      problem[i] = why[i];
+      out.feet[i].force = lambda[i].z();
+      out.feet[i].problem = why[i];
     }
-    return;
+    return out;
   }
   for (int i = 0; i < s.num_feet; ++i) {
     const double f = s.feet[i].force;
-    force[i] = f;
+    const char*& problem = out.feet[i].problem;
+    out.feet[i].force = f;
     bool saturated = false;
     if (std::isnan(f)) {
-      problem[i] = "no force reading";
+      problem = "no force reading";
     } else if (!std::isfinite(f)) {
-      problem[i] = "force is not finite";
+      problem = "force is not finite";
     } else if (f < checks_.negative_limit) {
-      problem[i] = "force negative";
+      problem = "force negative";
     } else if (f >= checks_.saturation) {
       saturated = true;
       saturated_time_[i] += s.dt;
-      if (saturated_time_[i] > checks_.stuck_time) problem[i] = "force stuck at saturation";
+      if (saturated_time_[i] > checks_.stuck_time) problem = "force stuck at saturation";
     }
     if (!saturated) saturated_time_[i] = 0.0;
   }
+  return out;
 }
 
 namespace {
@@ -78,19 +82,11 @@ std::string GrfThresholdDetector::name() const {
 }
 
 ContactEstimate GrfThresholdDetector::update(const ContactSignals& signals) {
-  checkSignals(signals, "grf-threshold");
-  std::array<double, kMaxFeet> force;
-  std::array<const char*, kMaxFeet> problem;
-  reader_.read(signals, force, problem);
-  ContactEstimate out;
-  out.t = signals.t;
-  out.num_feet = signals.num_feet;
-  for (int i = 0; i < signals.num_feet; ++i) {
+  ContactEstimate out = reader_.read(signals, "grf-threshold");
+  for (int i = 0; i < out.num_feet; ++i) {
     FootContact& f = out.feet[i];
-    f.force = force[i];
-    f.problem = problem[i];
     if (f.problem != nullptr) continue;
-    f.contact = force[i] > params_.threshold;  // c_i = [F_n,i > F_threshold]
+    f.contact = f.force > params_.threshold;  // c_i = [F_n,i > F_threshold]
     f.probability = f.contact ? 1.0 : 0.0;
   }
   return out;

@@ -53,9 +53,10 @@ class FootForceReader {
                   const model::QuadrupedGeometry& geometry = model::QuadrupedGeometry::go2(),
                   const model::QuadrupedInertia& inertia = model::QuadrupedInertia::go2());
 
-  // force[i] and problem[i] (nullptr when the reading is usable) for feet 0..num_feet-1.
-  void read(const ContactSignals& signals, std::array<double, kMaxFeet>& force,
-            std::array<const char*, kMaxFeet>& problem);
+  // The estimate both force detectors start from: signals checked (checkSignals, naming `who`),
+  // t and num_feet, and per foot its force and problem (nullptr when the reading is usable); the
+  // detector then sets contact and probability of the feet without a problem.
+  ContactEstimate read(const ContactSignals& signals, const char* who);
   void reset() { saturated_time_.fill(0.0); }
 
   ForceSource source() const { return source_; }

@@ -75,22 +75,14 @@ void SchmittDetector::reset() {
 }
 
 ContactEstimate SchmittDetector::update(const ContactSignals& signals) {
-  checkSignals(signals, "schmitt");
-  std::array<double, kMaxFeet> force;
-  std::array<const char*, kMaxFeet> problem;
-  reader_.read(signals, force, problem);
-  ContactEstimate out;
-  out.t = signals.t;
-  out.num_feet = signals.num_feet;
-  for (int i = 0; i < signals.num_feet; ++i) {
+  ContactEstimate out = reader_.read(signals, "schmitt");
+  for (int i = 0; i < out.num_feet; ++i) {
     FootContact& f = out.feet[i];
-    f.force = force[i];
-    f.problem = problem[i];
     if (f.problem != nullptr) {
       triggers_[i].interrupt();
       continue;
     }
-    f.contact = triggers_[i].update(force[i], signals.dt);
+    f.contact = triggers_[i].update(f.force, signals.dt);
     f.probability = f.contact ? 1.0 : 0.0;
   }
   return out;

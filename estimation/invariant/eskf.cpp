@@ -94,19 +94,9 @@ Eskf::Eskf(const EskfParams& params)
     : params_(params),
       gate_(params.gating, "Eskf"),
       pose_gate_(fusion::poseGateThreshold(params.gating)) {
-  nominal::checkImuNoise(params.imu, "Eskf", false);  // zero random walk: a constant bias
-  requireParam(params.foot_stance_density >= 0.0 && std::isfinite(params.foot_stance_density),
-               "foot_stance_density must be finite and non-negative");
-  requireParam(params.foot_swing_density >= 0.0 && std::isfinite(params.foot_swing_density),
-               "foot_swing_density must be finite and non-negative");
-  for (const double sigma :
-       {params.foot_init_sigma, params.sigma_attitude, params.sigma_velocity, params.sigma_position,
-        params.sigma_gyro_bias, params.sigma_accel_bias}) {
-    requireParam(sigma > 0.0 && std::isfinite(sigma),
-                 "foot_init_sigma and the prior sigmas must be positive and finite");
-  }
-  requireParam(params.gravity.allFinite(), "gravity must be finite");
-  checkLimits(params.limits, "Eskf");
+  checkFilterParams(params, "Eskf", false);  // zero densities: exact legs, constant bias
+  requireParam(params.foot_init_sigma > 0.0 && std::isfinite(params.foot_init_sigma),
+               "foot_init_sigma must be positive and finite");
   reset(EstimateSample{});
 }
 

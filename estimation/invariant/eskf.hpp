@@ -120,6 +120,7 @@
 #include "estimation/fusion/delayed_pose.hpp"
 #include "estimation/fusion/pose_measurement.hpp"
 #include "estimation/innovation_windows.hpp"
+#include "estimation/invariant/filter_params.hpp"
 #include "estimation/invariant/nominal_state.hpp"
 #include "lie/so3.hpp"
 #include "model/imu_model.hpp"
@@ -149,27 +150,9 @@ Transition transition(const State& x, const model::ImuReading& u, double dt);
 
 }  // namespace eskf
 
-struct EskfParams {
-  model::ImuNoise imu = model::ImuNoise::go2();  // continuous densities
-  // A stance foot's slip random walk [m/sqrt(s)]. The simulator's feet do not slip; 1 mm/sqrt(s)
-  // is a small allowance for a real robot's. (0.01 makes the filter visibly under-confident on
-  // the default trot: ANEES 5.6 for 9 dof in the 20-run study of the NEES tests, bounds
-  // [7.24, 10.95].)
-  double foot_stance_density = 1e-3;
-  double foot_swing_density = 2.0;  // a swing foot's random walk [m/sqrt(s)]
-  double foot_init_sigma = 1.0;     // prior of the (unknown) feet at reset [m]
-  // Whether stance feet may correct the heading (yaw and the gyro bias about the vertical):
-  // false, the heading rule (the default, file comment); true, the plain filter.
-  bool feet_correct_yaw = false;
-  // Prior of the state at reset (standard deviations; attitude per axis, local frame).
-  double sigma_attitude = 0.01;    // [rad]
-  double sigma_velocity = 0.05;    // [m/s]
-  double sigma_position = 0.01;    // [m]
-  double sigma_gyro_bias = 0.002;  // [rad/s]
-  double sigma_accel_bias = 0.02;  // [m/s^2]
-  Eigen::Vector3d gravity = model::gravity();
-  InputLimits limits;  // sensor ranges and the largest dt integrated (estimation/health.hpp)
-  engineering::GatingParams gating;  // innovation gate of the foot updates (file comment)
+// The family's block (filter_params.hpp) and the prior of the feet, in the state from reset.
+struct EskfParams : FilterParams {
+  double foot_init_sigma = 1.0;  // prior of the (unknown) feet at reset [m]
 };
 
 class Eskf final : public Estimator {
@@ -181,8 +164,7 @@ class Eskf final : public Estimator {
   std::string name() const override { return "eskf"; }
   // Base from x0, biases zero, feet unknown and out of contact; P from the Params sigmas.
   void reset(const EstimateSample& x0) override;
-  // reset(s.x), then the biases from s and, when s.sigma_tilt is given, roll and pitch prior
-  // sigma_tilt about the world x and y axes (yaw keeps sigma_attitude).
+  // As Estimator::initialise says; the tilt prior is about the world x and y axes.
   void initialise(const InitialState& s) override;
   // Prediction over in.dt with the previous IMU sample, then the stance feet; bad input and
   // faults as estimation/estimator.hpp's contract says.

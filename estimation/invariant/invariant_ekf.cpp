@@ -103,7 +103,7 @@ InvariantEkfParams InvariantEkfParams::hartleyExample() {
   p.imu.accel_noise_density = 0.1;
   p.imu.gyro_bias_random_walk = 1e-5;
   p.imu.accel_bias_random_walk = 1e-4;
-  p.foot_density = 0.01;
+  p.foot_stance_density = 0.01;
   p.sigma_attitude = p.sigma_velocity = p.sigma_position = 1.0;
   p.sigma_gyro_bias = p.sigma_accel_bias = 1.0;
   p.discretisation = Discretisation::kFirstOrder;
@@ -116,24 +116,7 @@ InvariantEkf::InvariantEkf(const InvariantEkfParams& params)
     : params_(params),
       gate_(params.gating, "InvariantEkf"),
       pose_gate_(fusion::poseGateThreshold(params.gating)) {
-  const model::ImuNoise& n = params.imu;
-  const auto nonNegative = [](double x) { return std::isfinite(x) && x >= 0.0; };
-  const auto positive = [](double x) { return std::isfinite(x) && x > 0.0; };
-  if (!nonNegative(n.gyro_noise_density) || !nonNegative(n.accel_noise_density) ||
-      !nonNegative(n.gyro_bias_random_walk) || !nonNegative(n.accel_bias_random_walk)) {
-    throw std::invalid_argument("InvariantEkf: IMU noise densities must be finite and >= 0");
-  }
-  if (!nonNegative(params.foot_density) || !nonNegative(params.foot_swing_density)) {
-    throw std::invalid_argument(
-        "InvariantEkf: foot_density and foot_swing_density must be finite and >= 0");
-  }
-  if (!positive(params.sigma_attitude) || !positive(params.sigma_velocity) ||
-      !positive(params.sigma_position) || !positive(params.sigma_gyro_bias) ||
-      !positive(params.sigma_accel_bias)) {
-    throw std::invalid_argument("InvariantEkf: prior sigmas must be finite and > 0");
-  }
-  if (!params.gravity.allFinite()) throw std::invalid_argument("InvariantEkf: gravity not finite");
-  checkLimits(params.limits, "InvariantEkf");
+  checkFilterParams(params, "InvariantEkf", false);  // zero densities: exact legs, constant bias
   reset(EstimateSample{});
 }
 
@@ -238,7 +221,7 @@ void InvariantEkf::propagateCovariance(const inekf::Transition& Phi, double dt) 
   for (int foot = 0; foot < inekf::kMaxFeet; ++foot) {
     const int col = column_of_foot_[foot];
     if (col < 0) continue;
-    var_d[col - 2] = contact::softFootNoiseDensity(probability_[foot], params_.foot_density,
+    var_d[col - 2] = contact::softFootNoiseDensity(probability_[foot], params_.foot_stance_density,
                                                    params_.foot_swing_density);
   }
   const auto addDiagonal = [&](int at, double variance) {

@@ -111,6 +111,7 @@
 #include "estimation/fusion/delayed_pose.hpp"
 #include "estimation/fusion/pose_measurement.hpp"
 #include "estimation/innovation_windows.hpp"
+#include "estimation/invariant/filter_params.hpp"
 #include "lie/sek3.hpp"
 #include "model/imu_model.hpp"
 #include "model/imu_noise.hpp"
@@ -161,28 +162,11 @@ Group propagateMean(const Group& X, const Eigen::Vector3d& w, const Eigen::Vecto
 
 }  // namespace inekf
 
-struct InvariantEkfParams {
-  model::ImuNoise imu = model::ImuNoise::go2();  // continuous densities (the simulator's)
-  // A stance foot's slip random walk [m/sqrt(s)]. The simulated feet do not slip: a small
-  // allowance, as in the ESKF.
-  double foot_density = 1e-3;
-  // A swing foot's random walk [m/sqrt(s)], the other end of the soft density of a held foot with
-  // p_c < 1 (file comment); the ESKF's and the TSIF's swing density.
-  double foot_swing_density = 2.0;
-  // Whether stance feet may correct the heading (yaw and the gyro bias about the vertical):
-  // false, the heading rule (the default, file comment); true, the plain filter.
-  bool feet_correct_yaw = false;
-  // Prior at reset, standard deviations in the kit's convention (mapped into xi at reset).
-  double sigma_attitude = 0.01;    // [rad] per axis, world frame
-  double sigma_velocity = 0.05;    // [m/s]
-  double sigma_position = 0.01;    // [m]
-  double sigma_gyro_bias = 0.002;  // [rad/s]
-  double sigma_accel_bias = 0.02;  // [m/s^2]
+// The family's block (filter_params.hpp) and the choices of this filter's own discretisation.
+// The feet enter the state at their touchdown (no prior of an unknown foot).
+struct InvariantEkfParams : FilterParams {
   inekf::Discretisation discretisation = inekf::Discretisation::kExact;
   inekf::TouchdownAttitude touchdown_attitude = inekf::TouchdownAttitude::kCorrected;
-  Eigen::Vector3d gravity = model::gravity();
-  InputLimits limits;  // sensor ranges and the largest dt integrated (estimation/health.hpp)
-  engineering::GatingParams gating;  // innovation gate of the foot corrections (file comment)
 
   // The settings of the reference implementation's Cassie example (src/examples/kinematics.cpp):
   // its noise values read as continuous-time standard deviations (gyro 0.01, accel 0.1, bias
@@ -206,8 +190,7 @@ class InvariantEkf final : public Estimator {
   // an IMU sample has been admitted (the reference instead propagates a zero reading, free fall,
   // when its first step has dt > 0).
   void reset(const EstimateSample& x0) override;
-  // reset(s.x), then the biases from s and, when s.sigma_tilt is given, roll and pitch prior
-  // sigma_tilt about the world x and y axes (yaw keeps sigma_attitude).
+  // As Estimator::initialise says; the tilt prior is about the world x and y axes.
   void initialise(const InitialState& s) override;
   // Propagation over in.dt with the previous IMU sample, then the contacts of this sample:
   // corrections for the held feet still in stance, removal of the others, new columns for feet

@@ -9,14 +9,12 @@
 // (a local, body-frame attitude error; every other block additive).
 //
 // IMU noise contract of both filters (model::ImuNoise): a bias random walk of zero is accepted and
-// means a constant bias, whose only uncertainty is the prior's (checkImuNoise below).
+// means a constant bias, whose only uncertainty is the prior's (checkFilterParams, filter_params.hpp).
 #pragma once
 
 #include <Eigen/Core>
 #include <array>
 #include <cmath>
-#include <stdexcept>
-#include <string>
 
 #include "lie/imu_dynamics.hpp"
 #include "lie/so3.hpp"
@@ -98,22 +96,6 @@ inline Eigen::Vector3d footInBody(const State& x, int i, Matrix39* H = nullptr) 
     H->block<3, 3>(0, 6) = Rt;            // dd_i
   }
   return h;
-}
-
-// The IMU noise contract: every density finite and non-negative; a white noise density must be
-// positive where the filter weighs by its inverse (white_noise_positive, the TSIF). A zero bias
-// random walk is a constant bias. Throws std::invalid_argument naming `who`.
-inline void checkImuNoise(const model::ImuNoise& n, const char* who, bool white_noise_positive) {
-  const auto check = [&](double density, const char* what, bool positive) {
-    if (std::isfinite(density) && (positive ? density > 0.0 : density >= 0.0)) return;
-    throw std::invalid_argument(std::string(who) + ": " + what + " must be finite and " +
-                                (positive ? "positive" : "non-negative") + ", got " +
-                                std::to_string(density));
-  };
-  check(n.gyro_noise_density, "gyro noise density", white_noise_positive);
-  check(n.accel_noise_density, "accelerometer noise density", white_noise_positive);
-  check(n.gyro_bias_random_walk, "gyro bias random walk", false);
-  check(n.accel_bias_random_walk, "accelerometer bias random walk", false);
 }
 
 }  // namespace legkit::invariant::nominal

@@ -250,21 +250,12 @@ void addKinematics(const State& x, int i, const ContactMeasurement& c, const Eig
 Tsif::Tsif(const TsifParams& params) : params_(params), gate_(params.gating, "Tsif") {
   // White noise weighs the IMU residual by its inverse: it must be positive. A zero random walk
   // is a constant bias (shareBias).
-  nominal::checkImuNoise(params.imu, "Tsif", true);
-  requirePositive(params.foot_stance_density, "foot_stance_density");
-  requirePositive(params.foot_swing_density, "foot_swing_density");
+  checkFilterParams(params, "Tsif", true);
   requirePositive(params.foot_init_sigma, "foot_init_sigma");
-  requirePositive(params.sigma_attitude, "sigma_attitude");
-  requirePositive(params.sigma_velocity, "sigma_velocity");
-  requirePositive(params.sigma_position, "sigma_position");
-  requirePositive(params.sigma_gyro_bias, "sigma_gyro_bias");
-  requirePositive(params.sigma_accel_bias, "sigma_accel_bias");
   if (params.iterations < 1) {
     throw std::invalid_argument("Tsif: iterations must be at least 1, got " +
                                 std::to_string(params.iterations));
   }
-  if (!params.gravity.allFinite()) throw std::invalid_argument("Tsif: gravity is not finite");
-  checkLimits(params.limits, "Tsif");
   reset(EstimateSample{});
 }
 

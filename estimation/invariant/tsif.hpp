@@ -113,6 +113,7 @@
 #include "estimation/engineering/gating.hpp"
 #include "estimation/estimator.hpp"
 #include "estimation/foot_slots.hpp"
+#include "estimation/invariant/filter_params.hpp"
 #include "estimation/invariant/nominal_state.hpp"
 #include "lie/so3.hpp"
 #include "model/imu_model.hpp"
@@ -153,24 +154,10 @@ Eigen::Vector3d kinematicsResidual(const State& x, int i, const Eigen::Vector3d&
 
 }  // namespace tsif
 
-struct TsifParams {
-  model::ImuNoise imu = model::ImuNoise::go2();  // continuous densities
-  double foot_stance_density = 1e-3;             // a stance foot's slip random walk [m/sqrt(s)]
-  double foot_swing_density = 2.0;               // a swing foot's weak random walk [m/sqrt(s)]
-  double foot_init_sigma = 1.0;                  // prior of the (unknown) feet at reset [m]
-  int iterations = 1;                            // Gauss-Newton iterations per step (1 or 2)
-  // Whether stance feet may correct the heading (yaw and the gyro bias about the vertical):
-  // false, the heading rule (the default, file comment); true, the plain filter.
-  bool feet_correct_yaw = false;
-  // Prior of the state at reset (standard deviations; attitude per axis, local frame).
-  double sigma_attitude = 0.01;    // [rad]
-  double sigma_velocity = 0.05;    // [m/s]
-  double sigma_position = 0.01;    // [m]
-  double sigma_gyro_bias = 0.002;  // [rad/s]
-  double sigma_accel_bias = 0.02;  // [m/s^2]
-  Eigen::Vector3d gravity = model::gravity();
-  InputLimits limits;  // sensor ranges and the largest dt integrated (estimation/health.hpp)
-  engineering::GatingParams gating;  // the gate of the kinematics residuals (file comment)
+// The family's block (filter_params.hpp), the prior of the feet and the iterations.
+struct TsifParams : FilterParams {
+  double foot_init_sigma = 1.0;  // prior of the (unknown) feet at reset [m]
+  int iterations = 1;            // Gauss-Newton iterations per step (1 or 2)
 };
 
 class Tsif final : public Estimator {
@@ -182,8 +169,7 @@ class Tsif final : public Estimator {
   std::string name() const override { return "tsif"; }
   // Base from x0, biases zero, feet unknown (weak prior); information from the Params sigmas.
   void reset(const EstimateSample& x0) override;
-  // reset(s.x), then the biases from s and, when s.sigma_tilt is given, roll and pitch prior
-  // sigma_tilt about the world x and y axes (yaw keeps sigma_attitude).
+  // As Estimator::initialise says; the tilt prior is about the world x and y axes.
   void initialise(const InitialState& s) override;
   // One two-state Gauss-Newton solve and marginalisation. Bad input and faults as
   // estimation/estimator.hpp's contract says; normal equations that do not factorise are a failed

@@ -479,7 +479,7 @@ TEST_CASE("ESKF: bad input throws and leaves the state untouched", "[57.5][eskf]
   };
   rejects([](EskfParams& p) { p.foot_stance_density = -1.0; }, "foot_stance_density");
   rejects([](EskfParams& p) { p.imu.gyro_noise_density = -1.0; }, "gyro noise density");
-  rejects([](EskfParams& p) { p.sigma_attitude = 0.0; }, "prior sigmas");
+  rejects([](EskfParams& p) { p.sigma_attitude = 0.0; }, "prior sigma_attitude");
   rejects([](EskfParams& p) { p.gravity.z() = std::numeric_limits<double>::infinity(); },
           "gravity");
 }

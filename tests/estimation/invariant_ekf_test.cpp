@@ -137,8 +137,8 @@ TEST_CASE("InEKF: one step equals the dense textbook formulas", "[57.5][inekf]")
     std::mt19937 gen(7);
     InvariantEkfParams params;
     params.discretisation = mode;
-    params.feet_correct_yaw = true;  // the textbook's gain (the heading rule: test_heading)
-    params.foot_density = 0.02;  // large enough to matter
+    params.feet_correct_yaw = true;     // the textbook's gain (the heading rule: test_heading)
+    params.foot_stance_density = 0.02;  // large enough to matter
     InvariantEkf filter(params);
     EstimateSample x0;
     x0.q = Eigen::Quaterniond(lie::SO3d::Random(gen).matrix());
@@ -170,7 +170,7 @@ TEST_CASE("InEKF: one step equals the dense textbook formulas", "[57.5][inekf]")
     const Group X_pred = inekf::propagateMean(X0, u0.w_m, u0.a_m, kGravity, dt, mode);
     MatrixXd Phi, Qd = MatrixXd::Zero(dim, dim);
     const model::ImuNoise& n = params.imu;
-    const double sd2 = params.foot_density * params.foot_density;
+    const double sd2 = params.foot_stance_density * params.foot_stance_density;
     if (mode == Discretisation::kExact) {
       Phi = lie::imu::phiWithBias(X_pred, u0.w_m, u0.a_m, kGravity, dt);
       MatrixXd Qc = MatrixXd::Zero(6, 6);
@@ -484,10 +484,10 @@ TEST_CASE("InEKF: bad input throws and leaves the state untouched", "[57.5][inek
     spoil(params);
     CHECK_THROWS_WITH(InvariantEkf(params), Catch::Contains(message));
   };
-  rejects([](InvariantEkfParams& p) { p.foot_density = -1.0; }, "foot_density");
+  rejects([](InvariantEkfParams& p) { p.foot_stance_density = -1.0; }, "foot_stance_density");
   rejects([](InvariantEkfParams& p) { p.imu.accel_bias_random_walk = std::nan(""); },
-          "IMU noise densities");
-  rejects([](InvariantEkfParams& p) { p.sigma_position = 0.0; }, "prior sigmas");
+          "accelerometer bias random walk");
+  rejects([](InvariantEkfParams& p) { p.sigma_position = 0.0; }, "prior sigma_position");
   rejects([](InvariantEkfParams& p) { p.gravity.z() = std::numeric_limits<double>::infinity(); },
           "gravity");
 }
@@ -562,7 +562,7 @@ TEST_CASE("InEKF: Monte Carlo NEES on the trot, the simulator's noise model",
   for (const Discretisation mode : {Discretisation::kExact, Discretisation::kFirstOrder}) {
     InvariantEkfParams params;
     params.discretisation = mode;
-    params.foot_density = 1e-4;
+    params.foot_stance_density = 1e-4;
     const NeesResult r = monteCarloNees(params, simulatorFrontend());
     WARN("InEKF (" << (mode == Discretisation::kExact ? "exact" : "first order")
                    << "): " << describe(r));
@@ -585,7 +585,7 @@ TEST_CASE("InEKF: Monte Carlo NEES on the trot, the kit's defaults", "[57.5][ine
 // 10 runs): mean 8.48 inside [6.56, 11.81], 99.6 % of rows inside.
 TEST_CASE("InEKF: Monte Carlo NEES, large initial error: still consistent", "[57.5][inekf][nees]") {
   InvariantEkfParams params;
-  params.foot_density = 1e-4;
+  params.foot_stance_density = 1e-4;
   const NeesResult r = monteCarloNees(params, simulatorFrontend(), 10.0, 10);
   WARN("InEKF, initial error x10: " << describe(r));
   CHECK(r.mean > r.bounds.lower);

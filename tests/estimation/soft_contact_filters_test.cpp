@@ -144,7 +144,7 @@ TEST_CASE("soft contact: p_c -> 0 lets a stance foot's covariance grow like a sw
       {"linear-kf", linearFoot, LinearKfParams{}.foot_stance_density,
        LinearKfParams{}.foot_swing_density, true},
       {"eskf", eskfFoot, EskfParams{}.foot_stance_density, EskfParams{}.foot_swing_density, true},
-      {"invariant-ekf", inekfFoot, InvariantEkfParams{}.foot_density,
+      {"invariant-ekf", inekfFoot, InvariantEkfParams{}.foot_stance_density,
        InvariantEkfParams{}.foot_swing_density, false},
       {"tsif", tsifFoot, TsifParams{}.foot_stance_density, TsifParams{}.foot_swing_density, true}};
   for (const Case& c : cases) {

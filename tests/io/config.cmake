@@ -1,6 +1,7 @@
 # Settings files. Owner: config.
 legkit_add_test(test_settings SOURCES settings_test.cpp
-                LIBS legkit_settings legkit_yaml legkit_eval legkit_sim LABELS "57.9;settings")
+                LIBS legkit_settings legkit_estimators legkit_yaml legkit_eval legkit_sim
+                LABELS "57.9;settings")
 target_compile_definitions(test_settings PRIVATE LEGKIT_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 
 # `legkit config` and `legkit run --config` end to end (they run the built program).
