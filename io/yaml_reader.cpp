@@ -99,7 +99,15 @@ YamlValue YamlValue::parseFile(const std::string& path) {
     throw ConfigError(path + ": " + tooLarge("settings file"));
   }
   if (in.bad()) throw ConfigError(path + ": cannot be read");
-  return parse(text, path);
+  YamlValue document = parse(text, path);
+  // An empty file (or comments only) would load as every default without a word: more likely a
+  // file cut short or the wrong one than a choice, which `{}` says explicitly.
+  if (document.isNull()) {
+    throw ConfigError(path +
+                      ": holds no settings (the file is empty or only comments); `legkit config "
+                      "--print` writes the defaults, and a file of `{}` takes them all");
+  }
+  return document;
 }
 
 YamlValue YamlValue::child(const YAML::Node& node, const std::string& path) const {

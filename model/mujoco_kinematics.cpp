@@ -214,6 +214,29 @@ bool finiteNumbers(const std::string& value) {
   return count > 0;
 }
 
+// Throws naming the line when a URDF declares entities (<!ENTITY> in its DOCTYPE) or holds an
+// include (<xi:include>, <xacro:include>) or any other xacro element: MuJoCo's XML reader expands
+// no entity and skips elements it does not know, so an entity would stay "&name;" and the included
+// links and joints would be missing without a word (and nothing outside the file is ever read).
+void checkUrdfPlain(const std::string& path, const std::string& xml) {
+  const StartTag root = nextStartTag(xml, 0);
+  if (const std::size_t entity = xml.find("<!ENTITY"); entity < root.begin) {
+    const auto line = 1 + std::count(xml.begin(), xml.begin() + entity, '\n');
+    fail(path, "line " + std::to_string(line) +
+                   ": <!ENTITY>: the kit reads a plain URDF, and expands no entity");
+  }
+  for (StartTag t = root; t.begin != std::string::npos; t = nextStartTag(xml, t.end)) {
+    const bool include =
+        t.name.size() >= 8 && t.name.compare(t.name.size() - 8, 8, ":include") == 0;
+    if (include || t.name.rfind("xacro:", 0) == 0) {
+      const auto line = 1 + std::count(xml.begin(), xml.begin() + t.begin, '\n');
+      fail(path, "line " + std::to_string(line) + ": <" + t.name +
+                     ">: the kit reads a plain URDF, without includes or xacro (expand it "
+                     "first: xacro model.urdf.xacro > model.urdf)");
+    }
+  }
+}
+
 // Throws naming the line and the joint or link when a numeric attribute of a URDF's kinematics
 // or inertia is not finite numbers: MuJoCo reads "nan" or a word as 0 and loads the robot.
 void checkUrdfNumbers(const std::string& path, const std::string& xml) {
@@ -341,6 +364,7 @@ MjModelPtr load(const std::string& path) {
   std::string warnings;
   const WarningCollector collector(warnings);
   if (prepareUrdf(xml)) {
+    checkUrdfPlain(path, xml);
     checkUrdfNumbers(path, xml);
     const std::unique_ptr<mjVFS, VfsDeleter> vfs(new mjVFS);
     mj_defaultVFS(vfs.get());

@@ -32,7 +32,6 @@ Left out, to keep the whole matrix under a minute on two cores:
   - flags (they take no value) and `--help`/`--version`;
   - `legkit-estimate` (its own matrix) and the values inside files (tools/bad-inputs/matrix.py).
 """
-import argparse
 import os
 import re
 import shutil
@@ -41,6 +40,8 @@ import sys
 import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
+
+from matrix_report import parser, report
 
 TIMEOUT = 20.0
 LONG = "x" * 10000
@@ -282,12 +283,7 @@ def show(value):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--legkit", required=True, help="the legkit program")
-    ap.add_argument("--dir", help="work folder (default: a temporary one, removed after)")
-    ap.add_argument("--keep", action="store_true", help="keep the work folder")
-    ap.add_argument("--jobs", type=int, default=2, help="cases run at once (default 2)")
-    ap.add_argument("--verbose", action="store_true", help="print the OK cases too")
+    ap = parser(__doc__)
     args = ap.parse_args()
     legkit = os.path.abspath(args.legkit)
     work = os.path.abspath(args.dir or tempfile.mkdtemp(prefix="legkit-options-"))
@@ -306,19 +302,9 @@ def main():
             results = list(pool.map(
                 lambda k: run_case(legkit, work, k, cases[k][0], cases[k][1], ctx),
                 range(len(cases))))
-        counts = {c: 0 for c in ("OK", "SILENT", "UNCLEAR", "HANG", "CRASH")}
-        slowest = max(range(len(cases)), key=lambda k: results[k][2])
-        for (option, value), (cls, what, seconds) in zip(cases, results):
-            counts[cls] += 1
-            if cls != "OK" or args.verbose:
-                label = " ".join(option.command) + " " + option.name
-                print(f"{cls:8s} {label} {show(value)}: {what} ({seconds:.1f} s)")
-        option, value = cases[slowest]
-        print(f"slowest case: {' '.join(option.command)} {option.name} {show(value)} "
-              f"({results[slowest][2]:.1f} s)")
-        print(f"option matrix: {len(cases)} cases in {time.monotonic() - started:.0f} s: " +
-              ", ".join(f"{c} {n}" for c, n in counts.items()))
-        return 0 if counts["OK"] == len(cases) else 1
+        labels = [f"{' '.join(option.command)} {option.name} {show(value)}"
+                  for option, value in cases]
+        return report("option matrix", labels, results, started, args.verbose)
     finally:
         if not args.dir and not args.keep:
             shutil.rmtree(work, ignore_errors=True)

@@ -90,16 +90,20 @@ int main(int argc, char** argv) {
   }
   std::string command_line;
   for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
+  int status = kExitOk;
   try {
-    if (run.parsed()) return run.run(std::cout, command_line);
-    if (*tour) return legkit::tools::lieTour(std::cout, seed);
-    if (*accuracy) return legkit::tools::lieAccuracy(std::cout, accuracyCsv, accuracyPoints);
-    if (sim.parsed()) return sim.run(std::cout);
-    if (cassie.parsed()) return cassie.run(std::cout);
-    if (allan.parsed()) return allan.run(std::cout);
-    if (config.parsed()) return config.run(std::cout);
-    if (robot.parsed()) return robot.run(std::cout);
-    if (tune.parsed()) return tune.run(std::cout);
+    status = [&] {
+      if (run.parsed()) return run.run(std::cout, command_line);
+      if (*tour) return legkit::tools::lieTour(std::cout, seed);
+      if (*accuracy) return legkit::tools::lieAccuracy(std::cout, accuracyCsv, accuracyPoints);
+      if (sim.parsed()) return sim.run(std::cout);
+      if (cassie.parsed()) return cassie.run(std::cout);
+      if (allan.parsed()) return allan.run(std::cout);
+      if (config.parsed()) return config.run(std::cout);
+      if (robot.parsed()) return robot.run(std::cout);
+      if (tune.parsed()) return tune.run(std::cout);
+      return static_cast<int>(kExitOk);
+    }();
   } catch (const UsageError& e) {  // e.g. an unknown leg or a malformed --dropout
     std::cerr << "legkit: " << e.what() << "\n";
     return kExitUsage;
@@ -110,5 +114,12 @@ int main(int argc, char** argv) {
     std::cerr << "legkit: an unexpected error that is not a std::exception\n";
     return kExitInput;
   }
-  return 0;
+  // A report that did not reach its reader is not done (stdout on a full disk: `legkit config
+  // --print > /dev/full` printed nothing and exited 0).
+  std::cout.flush();
+  if (!std::cout) {
+    std::cerr << "legkit: cannot write the standard output\n";
+    return kExitInput;
+  }
+  return status;
 }

@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -40,23 +42,85 @@ void writeChecked(const fs::path& path, const std::function<void(std::ostream&)>
 namespace {
 
 // Throws OutputError unless `path` is absent or a regular file (never a link: it is not followed).
-void checkReplaceable(const fs::path& path, const fs::path& shown) {
+void checkReplaceable(const fs::path& path, const std::string& shown) {
   std::error_code error;
   const fs::file_status status = fs::symlink_status(path, error);
   if (error || status.type() == fs::file_type::not_found || fs::is_regular_file(status)) return;
-  throw OutputError("cannot write " + shown.string() + ": " + path.string() +
+  throw OutputError("cannot write " + shown + ": " + path.string() +
                     " exists and is not a regular file (a device, a link, a folder or a FIFO): "
                     "the kit replaces only regular files");
 }
 
+// The .tmp files being written, removed by a SIGTERM, SIGINT or SIGHUP before the program dies of
+// it: a killed run leaves no .tmp behind (OutputFolder removes those of a previous run's listed
+// outputs only, and a run killed before its manifest lists none). A fixed table of slots, so that
+// the handler touches nothing but lock-free atomics, char arrays and unlink() (async-signal-safe);
+// a path too long for a slot is just not removed.
+struct TmpSlot {
+  std::atomic<int> state{0};  // 0 free, 1 being filled, 2 a .tmp being written
+  char path[4096] = {};
+};
+TmpSlot g_tmp_slots[16];
+
+extern "C" void removeTmpFilesAndDie(int signal_number) {
+  for (TmpSlot& slot : g_tmp_slots) {
+    if (slot.state.load() == 2) ::unlink(slot.path);
+  }
+  std::signal(signal_number, SIG_DFL);
+  std::raise(signal_number);  // the exit status still says which signal ended the program
+}
+
+// Registers `tmp` in a free slot for the handler while it lives.
+class TmpFileGuard {
+ public:
+  explicit TmpFileGuard(const std::string& tmp) {
+    static const bool installed = [] {
+      for (const int s : {SIGTERM, SIGINT, SIGHUP}) std::signal(s, removeTmpFilesAndDie);
+      return true;
+    }();
+    (void)installed;
+    if (tmp.size() >= sizeof(TmpSlot::path)) return;
+    for (TmpSlot& slot : g_tmp_slots) {
+      int expected = 0;
+      if (!slot.state.compare_exchange_strong(expected, 1)) continue;
+      std::memcpy(slot.path, tmp.c_str(), tmp.size() + 1);
+      slot.state.store(2);
+      slot_ = &slot;
+      return;
+    }
+  }
+  ~TmpFileGuard() {
+    if (slot_) slot_->state.store(0);
+  }
+  TmpFileGuard(const TmpFileGuard&) = delete;
+  TmpFileGuard& operator=(const TmpFileGuard&) = delete;
+
+ private:
+  TmpSlot* slot_ = nullptr;
+};
+
 }  // namespace
 
-void writeAtomically(const fs::path& path, const std::function<void(std::ostream&)>& write) {
+void checkWritable(const fs::path& path, const std::string& name) {
+  const std::string shown = name.empty() ? path.string() : name;
+  checkReplaceable(path, shown);
+  checkReplaceable(path.string() + ".tmp", shown);
+  const fs::path folder = path.parent_path();
+  std::error_code ignored;
+  if (!folder.empty() && !fs::is_directory(folder, ignored)) {
+    throw OutputError("cannot write " + shown + ": " + folder.string() + " is not a folder");
+  }
+}
+
+void writeAtomically(const fs::path& path, const std::function<void(std::ostream&)>& write,
+                     const std::string& name) {
+  const std::string shown = name.empty() ? path.string() : name;
   const fs::path tmp = path.string() + ".tmp";
-  checkReplaceable(path, path);
-  checkReplaceable(tmp, path);
+  checkReplaceable(path, shown);
+  checkReplaceable(tmp, shown);
+  const TmpFileGuard guard(tmp.string());
   try {
-    writeChecked(tmp, write, path.string());
+    writeChecked(tmp, write, shown);
   } catch (...) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
@@ -67,7 +131,7 @@ void writeAtomically(const fs::path& path, const std::function<void(std::ostream
   if (error) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
-    throw OutputError("cannot write " + path.string() + ": " + error.message());
+    throw OutputError("cannot write " + shown + ": " + error.message());
   }
 }
 

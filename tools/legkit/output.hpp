@@ -43,11 +43,17 @@ void writeChecked(const std::filesystem::path& path,
                   const std::function<void(std::ostream&)>& write, const std::string& name = "");
 
 // Writes path through `write` into "<path>.tmp", checks the stream after flushing and closing it,
-// and only then renames it to path. Throws OutputError naming path on any failure (a full disk, a
-// missing folder); path then keeps whatever it held before. Only regular files are replaced: a
-// path (or its .tmp) that is a device, a link, a folder or a FIFO is an OutputError, untouched.
+// and only then renames it to path. Throws OutputError naming path (or `name`, e.g. "x.csv
+// (--out)") on any failure (a full disk, a missing folder); path then keeps whatever it held
+// before. Only regular files are replaced: a path (or its .tmp) that is a device, a link, a folder
+// or a FIFO is an OutputError, untouched.
 void writeAtomically(const std::filesystem::path& path,
-                     const std::function<void(std::ostream&)>& write);
+                     const std::function<void(std::ostream&)>& write, const std::string& name = "");
+
+// Throws OutputError naming path (or `name`) unless writeAtomically could replace it: path and
+// its .tmp absent or regular files, in a folder that exists. For a check before a long run, so
+// that the run is not spent for an output it cannot write (legkit-estimate --out).
+void checkWritable(const std::filesystem::path& path, const std::string& name = "");
 
 // Creates the folder (and its parents) for a command's outputs, or throws OutputError.
 void makeOutputFolder(const std::filesystem::path& dir);

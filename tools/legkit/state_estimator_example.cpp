@@ -18,6 +18,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -79,6 +80,8 @@ std::string origin(bool option_given, const std::string& option, const std::stri
 int run(const Options& o) {
   // Without a settings file: the invariant EKF on the Schmitt trigger, no settling (the options'
   // defaults before settings files); with one, its values unless an option is given.
+  if (!o.out.empty())
+    tools::checkWritable(o.out, o.out + " (--out)");  // before the run, which may be long
   Settings settings;
   if (!o.config.empty()) {
     settings = loadSettings(o.config);
@@ -142,10 +145,10 @@ int run(const Options& o) {
     manager.reset(EstimateSample{first.t, first.gt_q, first.gt_v, first.gt_p});
   }
 
-  std::ofstream out;
+  // The states are gathered here and written at the end through tools::writeAtomically, as
+  // `legkit run` writes its files.
+  std::ostringstream out;
   if (!o.out.empty()) {
-    out.open(o.out);
-    if (!out) throw OutputError("cannot write " + o.out + " (--out)");
     out << "t,initialised,qw,qx,qy,qz,vx,vy,vz,px,py,pz,sigma_px,sigma_py,sigma_pz";
     for (int f = 0; f < num_feet; ++f) out << ",contact_" << f << ",p_c_" << f;
     out << "\n" << std::setprecision(9);
@@ -199,7 +202,7 @@ int run(const Options& o) {
       break;
     }
     states.push_back(x.x);
-    if (out.is_open()) {
+    if (!o.out.empty()) {
       out << x.x.t << ',' << (x.initialised ? 1 : 0) << ',' << x.x.q.w() << ',' << x.x.q.x() << ','
           << x.x.q.y() << ',' << x.x.q.z() << ',' << x.x.v.x() << ',' << x.x.v.y() << ','
           << x.x.v.z() << ',' << x.x.p.x() << ',' << x.x.p.y() << ',' << x.x.p.z();
@@ -233,9 +236,9 @@ int run(const Options& o) {
       }
     }
   }
-  if (out.is_open()) {
-    out.close();
-    if (!out) throw OutputError("cannot write " + o.out + " (--out): the writing failed");
+  if (!o.out.empty()) {
+    tools::writeAtomically(
+        o.out, [&out](std::ostream& file) { file << out.str(); }, o.out + " (--out)");
   }
   if (failure) {
     std::cout << "log " << o.log_path << ": " << log.rows.size() << " rows\n"
