@@ -214,16 +214,13 @@ int SimCommand::runPhysics(std::ostream& out) const {
   sim::PhysicsOptions options;
   options.scenario = sim::physicsScenarioByName(scenario_);
   options.duration = duration_option_->count() > 0 ? duration_ : options.scenario.duration;
-  if (friction_option_->count() > 0) {
-    checkRange("--friction", friction_, 0.01, 2.0, "");
-    options.scenario.terrain.friction = friction_;
-  }
+  // --friction and --push are in range (their validators): only where they apply is left.
+  if (friction_option_->count() > 0) options.scenario.terrain.friction = friction_;
   if (push_option_->count() > 0) {
     if (options.scenario.pushes.empty()) {
       throw UsageError("--push: " + scenario_ +
                        " has no push (the push scenarios: physics-push, physics-ice-push)");
     }
-    checkRange("--push", push_, 0.0, 300.0, " N");
     for (sim::Push& p : options.scenario.pushes) {  // the same direction, this force
       const double norm = p.force.norm();
       p.force =
