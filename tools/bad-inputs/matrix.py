@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The bad-input matrix: about a hundred broken or extreme logs, each run through `legkit run`.
 
-    tools/bad-inputs/matrix.py --legkit build/legkit [--dir DIR] [--keep]
+    tools/bad-inputs/matrix.py --legkit build/legkit [--dir DIR] [--keep] [--jobs N] [--verbose]
 
 Every case is made from a short simulated trot (`legkit sim`) by one change, and states what a
 correct kit does with it:
@@ -13,9 +13,17 @@ correct kit does with it:
 Whatever the case: no crash (a signal, or an exit code above 3), no hang (60 s), no Python-style
 traceback, and a message of reasonable length (under 2000 characters).
 
-Prints one line per case and closes with 'N passed, M failed'; exits 1 if any case failed.
+Each case is classified as the other matrices' are (options.py, files.py):
+  OK       as stated above;
+  SILENT   a run that went through (exit 0 or 3) where a refusal was due, or that wrote an estimate
+           that is not finite and physical, or no output;
+  UNCLEAR  a refusal that names neither the file nor the line, a message over 2000 characters, or
+           a log that should run refused;
+  HANG     no answer in 60 s;
+  CRASH    a signal, or an exit code above 3.
+Prints the cases that are not OK (every case with --verbose) and the counts per class; exits 1
+unless every case is OK.
 """
-import argparse
 import csv
 import io
 import math
@@ -24,6 +32,10 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+from matrix_report import parser, report
 
 TIMEOUT = 60.0
 ROW = 500  # the data row most cases spoil (0-based)
@@ -269,47 +281,50 @@ def check_estimates(out_dir):
 
 
 def run_case(legkit, work, name, expectation, contents, line):
+    """(class, what was seen, seconds) of one case."""
     safe = "".join(ch if ch.isalnum() or ch in "-=." else "_" for ch in name)
     path = os.path.join(work, safe + ".csv")
     with open(path, "wb") as f:
         f.write(contents)
     out_dir = os.path.join(work, safe + ".out")
+    started = time.monotonic()
     try:
         # Every estimate row is checked, not only the default 100 Hz ones.
         p = subprocess.run([legkit, "run", "--log", path, "--out", out_dir, "--no-plots",
                             "--estimate-rate", "all"], capture_output=True, timeout=TIMEOUT)
     except subprocess.TimeoutExpired:
-        return "hang (no answer in 60 s)"
+        return "HANG", f"no answer in {TIMEOUT:.0f} s", TIMEOUT
+    seconds = time.monotonic() - started
     err = p.stderr.decode(errors="replace")
     rc = p.returncode
     if rc < 0 or rc > 3:
-        return f"crash or unexpected exit code {rc}: {err[-300:]}"
+        return "CRASH", f"exit {rc}: {err[-300:]}", seconds
     if len(err) > 2000:
-        return f"message of {len(err)} characters"
+        return "UNCLEAR", f"message of {len(err)} characters", seconds
     if expectation in ("error", "any") and rc == 2:
         if os.path.basename(path) not in err:
-            return f"exit 2, but the message does not name the file: {err.strip()[:300]}"
+            return "UNCLEAR", f"exit 2 not naming the file: {err.strip()[:300]}", seconds
         if line is not None and f":{line}" not in err and f"line {line}" not in err:
-            return f"exit 2, but the message does not name line {line}: {err.strip()[:300]}"
-        return ""
+            return "UNCLEAR", f"exit 2 not naming line {line}: {err.strip()[:300]}", seconds
+        return "OK", f"refused: {err.strip()[:160]}", seconds
     if expectation == "error":
-        return f"expected a refusal (exit 2), got exit {rc}: {err.strip()[:300]}"
+        cls = "SILENT" if rc in (0, 3) else "UNCLEAR"
+        return cls, f"expected a refusal (exit 2), got exit {rc}: {err.strip()[:300]}", seconds
     if rc not in (0, 3):
-        return f"expected the run to go through (exit 0 or 3), got exit {rc}: {err.strip()[:300]}"
+        return "UNCLEAR", f"expected the run to go through, got exit {rc}: {err.strip()[:300]}", \
+            seconds
     if not os.path.isdir(out_dir):
-        return f"exit {rc} but no output folder"
-    return check_estimates(out_dir)
+        return "SILENT", f"exit {rc} but no output folder", seconds
+    problem = check_estimates(out_dir)
+    return ("SILENT", problem, seconds) if problem else ("OK", f"ran, exit {rc}", seconds)
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--legkit", required=True, help="the legkit program")
-    ap.add_argument("--dir", help="work folder (default: a temporary one, removed after)")
-    ap.add_argument("--keep", action="store_true", help="keep the work folder")
-    args = ap.parse_args()
+    args = parser(__doc__).parse_args()
     legkit = os.path.abspath(args.legkit)
     work = args.dir or tempfile.mkdtemp(prefix="legkit-bad-inputs-")
     os.makedirs(work, exist_ok=True)
+    started = time.monotonic()
     try:
         def simulate(name, *extra):
             path = os.path.join(work, name)
@@ -321,17 +336,11 @@ def main():
         no_gt = simulate("base-no-gt.csv", "--no-ground-truth")
         feet_diag = feet_only(simulate("base-feet-diag.csv", "--foot-columns", "diagonal"))
         feet_full = feet_only(simulate("base-feet-full.csv", "--foot-columns", "full"))
-        passed = failed = 0
-        for name, expectation, contents, line in cases(base, feet_diag, feet_full, no_gt):
-            problem = run_case(legkit, work, name, expectation, contents, line)
-            if problem:
-                failed += 1
-                print(f"FAIL {name} ({expectation}): {problem}")
-            else:
-                passed += 1
-                print(f"ok   {name} ({expectation})")
-        print(f"bad-input matrix: {passed} passed, {failed} failed")
-        return 1 if failed else 0
+        all_cases = list(cases(base, feet_diag, feet_full, no_gt))
+        with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+            results = list(pool.map(lambda case: run_case(legkit, work, *case), all_cases))
+        labels = [f"{name} ({expectation})" for name, expectation, _, _ in all_cases]
+        return report("bad-input matrix", labels, results, started, args.verbose)
     finally:
         if not args.dir and not args.keep:
             shutil.rmtree(work, ignore_errors=True)
