@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -85,6 +86,9 @@ TEST_CASE("output: a folder's previous run removes only what its manifest listed
   // out of the folder (written by hand: the kit never lists one).
   std::ofstream(out / "estimate_mine.csv") << "mine\n";
   std::ofstream(out / "figure.png") << "mine\n";
+  // The user's figure is an hour old (a fresh one is within the file clock's slack of `drawing`).
+  fs::last_write_time(out / "figure.png",
+                      fs::file_time_type::clock::now() - std::chrono::hours(1));
   std::ofstream(out / "estimate_a.csv.tmp") << "half\n";
   std::ofstream(dir.path / "outside.csv") << "mine\n";
   nlohmann::json manifest = nlohmann::json::parse(slurp(out / "summary.json"));
@@ -101,6 +105,8 @@ TEST_CASE("output: a folder's previous run removes only what its manifest listed
     CHECK(slurp(kept) == "mine\n");
   // A figure drawn after the folder was opened is the run's; the user's older one is not.
   std::ofstream(out / "drawn.png") << "png\n";
+  // Stamped by the kernel's coarse clock, a tick behind `drawing` (as it was once under ASan).
+  fs::last_write_time(out / "drawn.png", drawing - std::chrono::milliseconds(4));
   second.adopt(".png", drawing);
   CHECK(second.written() == std::vector<std::string>{"drawn.png"});
 

@@ -8,6 +8,7 @@
 #include <array>
 #include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -185,6 +186,8 @@ void OutputFolder::write(const std::string& name, const std::function<void(std::
 }
 
 void OutputFolder::adopt(const std::string& extension, fs::file_time_type since) {
+  constexpr std::chrono::milliseconds kFileClockSlack{50};  // > a tick at HZ=100, 250 or 1000
+  since -= kFileClockSlack;
   std::vector<std::string> found;
   for (const fs::directory_entry& e : fs::directory_iterator(dir_)) {
     std::error_code error;

@@ -71,6 +71,10 @@ class OutputFolder {
   // writeAtomically(path(name), write), and `name` recorded as written.
   void write(const std::string& name, const std::function<void(std::ostream&)>& write);
   // Records the regular files matching `extension` modified since `since` (a script's figures).
+  // File times come from the kernel's coarse clock, up to a scheduler tick (10 ms at HZ=100)
+  // behind `clock::now()`: a file written right after `since` was taken can carry an earlier
+  // time, so the comparison allows 50 ms (seen under ASan: a figure written just after `since`
+  // was stamped before it).
   void adopt(const std::string& extension, std::filesystem::file_time_type since);
   // The names written so far, for the manifest.
   const std::vector<std::string>& written() const { return written_; }
