@@ -87,8 +87,7 @@ TEST_CASE("output: a folder's previous run removes only what its manifest listed
   std::ofstream(out / "estimate_mine.csv") << "mine\n";
   std::ofstream(out / "figure.png") << "mine\n";
   // The user's figure is an hour old (a fresh one is within the file clock's slack of `drawing`).
-  fs::last_write_time(out / "figure.png",
-                      fs::file_time_type::clock::now() - std::chrono::hours(1));
+  fs::last_write_time(out / "figure.png", fs::file_time_type::clock::now() - std::chrono::hours(1));
   std::ofstream(out / "estimate_a.csv.tmp") << "half\n";
   std::ofstream(dir.path / "outside.csv") << "mine\n";
   nlohmann::json manifest = nlohmann::json::parse(slurp(out / "summary.json"));
