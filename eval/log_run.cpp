@@ -12,7 +12,9 @@ namespace legkit::eval {
 
 std::unique_ptr<model::LegKinematics> logLegs(const io::LogLayout& layout,
                                               const RobotSettings& robot) {
-  if (layout.num_joints == 0) return nullptr;
+  // A model is read even for a log without joint columns, so that its own faults are reported
+  // before checkLogRobot's mismatch.
+  if (layout.num_joints == 0 && robot.model.empty()) return nullptr;
   return model::makeLegKinematics(robot.model, robot.base, robot.feet, robot.joints);
 }
 
@@ -73,6 +75,7 @@ RunResult runWithSettings(const io::Log& recorded, const Settings& settings,
     throw std::invalid_argument(std::string("contact 'truth': ") + e.what());
   }
   const std::unique_ptr<model::LegKinematics> legs = logLegs(log.layout, settings.robot);
+  checkLogRobot(log.layout, settings.robot, legs.get(), "the settings", "the log");
   const LogFrontend frontend =
       logFrontend(log.layout, legs.get(), settings.frontend, settings.imu_extrinsic);
   const int num_feet = legs ? legs->numFeet() : log.layout.num_feet;

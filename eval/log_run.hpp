@@ -17,9 +17,9 @@
 
 namespace legkit::eval {
 
-// The legs of a log's generic joints (layout.num_joints > 0): the robot's model through
-// model::makeLegKinematics, whose std::runtime_error names the file. Null for a log of the
-// built-in quadruped's joints or of foot columns, which need no model.
+// The legs of a log's generic joints (layout.num_joints > 0) or of a robot.model: the robot's
+// model through model::makeLegKinematics, whose std::runtime_error names the file. Null for a
+// log of the built-in quadruped's joints or of foot columns without a robot.model.
 std::unique_ptr<model::LegKinematics> logLegs(const io::LogLayout& layout,
                                               const RobotSettings& robot);
 

@@ -359,6 +359,12 @@ MjModelPtr load(const std::string& path) {
     xml.append(buffer, n);
   }
   if (in.bad()) fail(path, "read error");
+  const std::size_t first = xml.find_first_not_of(" \t\r\n");
+  if (first == std::string::npos) fail(path, "is empty: a robot model is a URDF or MJCF file");
+  if (xml[first] != '<') {
+    fail(path, "is not XML (a URDF or MJCF file begins with '<'; this one with byte " +
+                   std::to_string(static_cast<unsigned char>(xml[first])) + ")");
+  }
   char error[1000] = "";
   MjModelPtr m;
   std::string warnings;

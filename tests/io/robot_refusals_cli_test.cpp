@@ -94,11 +94,12 @@ TEST_CASE("config --check refuses the robot models legkit run refuses", "[cli][s
   writeFile(dir.path / "cut.urdf", "<robot name=\"r\"><link name=\"base\"");
   checkModelRefused(dir.path, robotYaml("cut.urdf"), "MuJoCo cannot load it: XML parse error");
   writeFile(dir.path / "empty.urdf", "");
-  checkModelRefused(dir.path, robotYaml("empty.urdf"), "MuJoCo cannot load it");
+  checkModelRefused(dir.path, robotYaml("empty.urdf"),
+                    "is empty: a robot model is a URDF or MJCF file");
   writeFile(dir.path / "binary.urdf", std::string("\x7f"
                                                   "ELF\x02\x01\x01\0\0\xff\xfe",
                                                   12));
-  checkModelRefused(dir.path, robotYaml("binary.urdf"), "MuJoCo cannot load it");
+  checkModelRefused(dir.path, robotYaml("binary.urdf"), "is not XML");
   checkModelRefused(dir.path, robotYaml("leg.urdf", "trunk"), "no body named 'trunk' for the base");
   checkModelRefused(dir.path, robotYaml("leg.urdf", "base", "[toe]"),
                     "no site or body named 'toe' for a foot");

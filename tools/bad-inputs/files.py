@@ -308,11 +308,16 @@ def robot_cases():
         cases.append(Case("config --check: " + label,
                           lambda c: ["{legkit}", "config", "--check", "{case}/s.yaml"],
                           setup=setup, names=names))
-    # Through `legkit run` on the iCub's log (generic joint columns: a log of the built-in
-    # quadruped's is refused for any robot.model before the model is read).
+    # Through `legkit run` on the iCub's log (generic joint columns), and on the built-in
+    # simulation (the Go2's joints, refused for any robot.model, but the model's own fault first).
     for label, setup, names in [bad[0], bad[7], bad[9], bad[17]]:
         cases.append(Case("run --config: " + label,
                           lambda c: ["{legkit}", "run", "--log", "{icub}", "--no-plots", "--out",
+                                     "{case}/out", "--config", "{case}/s.yaml"],
+                          setup=setup, names=names))
+    for label, setup, names in [bad[0], bad[2], bad[3], bad[7]]:
+        cases.append(Case("run --config, simulated: " + label,
+                          lambda c: ["{legkit}", "run", "--duration", "1", "--no-plots", "--out",
                                      "{case}/out", "--config", "{case}/s.yaml"],
                           setup=setup, names=names))
     cases.append(Case("config --check: the Go2's URDF",
