@@ -263,4 +263,25 @@ EstimateSample initialState(const io::Log& log, double truth_velocity_window) {
   return x0;
 }
 
+void runHartleyLog(Estimator& filter, const io::HartleyLog& log,
+                   const std::function<void()>& after) {
+  EstimateSample x0;
+  x0.q = Eigen::Quaterniond(Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal().toDenseMatrix());
+  filter.reset(x0);
+  filter.step(StepInput{});  // the zero reading held before the log (t = 0, no feet)
+  double t_previous = 0.0;
+  for (const io::HartleySample& s : log.samples) {
+    StepInput in;
+    in.t = s.t;
+    in.dt = s.t - t_previous;
+    in.imu = s.imu;
+    std::array<ContactMeasurement, io::kHartleyMaxFeet> stance;
+    in.num_contacts = io::stanceFeet(s, stance);
+    std::copy(stance.begin(), stance.begin() + in.num_contacts, in.contacts.begin());
+    filter.step(in);
+    if (after) after();
+    t_previous = s.t;
+  }
+}
+
 }  // namespace legkit::eval

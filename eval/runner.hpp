@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <exception>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "estimation/log_frontend.hpp"
 #include "eval/metrics.hpp"
 #include "eval/trajectory.hpp"
+#include "io/hartley_log.hpp"
 #include "io/log.hpp"
 
 namespace legkit::eval {
@@ -151,5 +153,14 @@ std::string describe(const Health& health);
 // pitch from the first accelerometer sample.
 EstimateSample initialState(const io::Log& log,
                             double truth_velocity_window = kTruthVelocityWindow);
+
+// Runs `filter` (reset here) over a log in the reference implementation's text format
+// (io/hartley_log.hpp) as the reference's example does (RossHartley/invariant-ekf,
+// src/examples/kinematics.cpp): R0 = diag(1, -1, -1), everything else zero at t = 0, a zero IMU
+// reading held until the log's first sample (given to the filter as a sample at t = 0: the filter
+// never integrates the first sample after a reset), then per record dt from the previous one and
+// the kinematics of the feet marked in contact. `after` is called after every record.
+void runHartleyLog(Estimator& filter, const io::HartleyLog& log,
+                   const std::function<void()>& after = {});
 
 }  // namespace legkit::eval

@@ -482,32 +482,14 @@ TEST_CASE("InEKF: Monte Carlo NEES, large initial error: still consistent", "[57
 
 namespace {
 
-// The reference's Cassie example (RossHartley/invariant-ekf, src/examples/kinematics.cpp) with
-// `params` (InvariantEkfParams::hartleyExample and variations): R0 = diag(1, -1, -1), everything
-// else zero at t = 0. The example holds a zero IMU reading before the log's first sample and
-// propagates it over the 4.5 ms up to that sample: here a zero sample at t = 0 (the filter never
-// integrates the first sample after a reset). Then each record: dt from the previous one, the
-// kinematics of the feet marked in contact. `after` sees the filter after every record.
+// The reference's Cassie example with `params` (InvariantEkfParams::hartleyExample and
+// variations), as eval::runHartleyLog runs it; `after` sees the filter after every record.
 InvariantEkf runCassie(const io::HartleyLog& log, const InvariantEkfParams& params,
                        const std::function<void(const InvariantEkf&)>& after = {}) {
   InvariantEkf filter(params);
-  EstimateSample x0;
-  x0.q = Eigen::Quaterniond(Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal().toDenseMatrix());
-  filter.reset(x0);
-  filter.step(StepInput{});  // t = 0, dt = 0, zero reading, no feet
-  double t_previous = 0.0;
-  for (const io::HartleySample& s : log.samples) {
-    StepInput in;
-    in.t = s.t;
-    in.dt = s.t - t_previous;
-    in.imu = s.imu;
-    std::array<ContactMeasurement, io::kHartleyMaxFeet> stance;
-    in.num_contacts = io::stanceFeet(s, stance);
-    std::copy(stance.begin(), stance.begin() + in.num_contacts, in.contacts.begin());
-    filter.step(in);
+  eval::runHartleyLog(filter, log, [&] {
     if (after) after(filter);
-    t_previous = s.t;
-  }
+  });
   return filter;
 }
 

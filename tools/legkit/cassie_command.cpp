@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <iomanip>
 
+#include "eval/runner.hpp"
 #include "validators.hpp"
 
 namespace legkit::tools {
@@ -17,25 +18,6 @@ std::string defaultLog() {
 }
 
 }  // namespace
-
-void runHartleyLog(invariant::InvariantEkf& filter, const io::HartleyLog& log) {
-  EstimateSample x0;
-  x0.q = Eigen::Quaterniond(Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal().toDenseMatrix());
-  filter.reset(x0);
-  filter.step(StepInput{});  // the zero reading held before the log (t = 0, no feet)
-  double t_previous = 0.0;
-  for (const io::HartleySample& s : log.samples) {
-    StepInput in;
-    in.t = s.t;
-    in.dt = s.t - t_previous;
-    in.imu = s.imu;
-    std::array<ContactMeasurement, io::kHartleyMaxFeet> stance;
-    in.num_contacts = io::stanceFeet(s, stance);
-    std::copy(stance.begin(), stance.begin() + in.num_contacts, in.contacts.begin());
-    filter.step(in);
-    t_previous = s.t;
-  }
-}
 
 CassieCommand::CassieCommand(CLI::App& app)
     : command_(app.add_subcommand(
@@ -61,7 +43,7 @@ int CassieCommand::run(std::ostream& out) const {
   if (reference_) params.touchdown_attitude = invariant::inekf::TouchdownAttitude::kPredicted;
   invariant::InvariantEkf filter(params);
   const auto start = std::chrono::steady_clock::now();
-  runHartleyLog(filter, log);
+  eval::runHartleyLog(filter, log);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

@@ -15,12 +15,6 @@
 
 namespace legkit::tools {
 
-// Runs `filter` (reset here) over the log as the reference's example does: R0 = diag(1, -1, -1),
-// everything else zero at t = 0, a zero IMU reading held until the log's first sample (given to
-// the filter as a sample at t = 0: the filter never integrates the first sample after a reset),
-// then per record dt from the previous one and the kinematics of the feet marked in contact.
-void runHartleyLog(invariant::InvariantEkf& filter, const io::HartleyLog& log);
-
 class CassieCommand {
  public:
   // Registers the `cassie` subcommand and its options on `app`.
