@@ -43,13 +43,19 @@ TEST_CASE("legkit config: --print is config/legkit.yaml, --check names the line"
   CHECK_THAT(r.output, Contains("bad.yaml:3: imu.accel_noise_density"));
   CHECK_FALSE(fs::exists(dir.path / "legkit-out"));
 
-  // A robot model for a log whose legs are the quadruped's joint columns: refused, naming the key.
+  // A robot model for a log whose legs are the quadruped's joint columns: refused, naming the
+  // key; a model that cannot be read is named as such first.
   writeFile(dir.path / "robot.yaml",
             "robot:\n  model: biped.xml\n  base: pelvis\n  feet: [l, r]\n");
   r = runLegkit(dir.path, {"run", "--scenario", "trot", "--duration", "1", "--no-plots", "--config",
                            "robot.yaml"});
   CHECK(r.status == 2);
-  CHECK_THAT(r.output, Contains("robot.yaml: robot.model:") && Contains("no generic joint"));
+  CHECK_THAT(r.output, Contains("robot.yaml: robot.model:") && Contains("biped.xml") &&
+                           Contains("cannot open the file"));
+  r = runLegkit(dir.path, {"run", "--scenario", "trot", "--duration", "1", "--no-plots", "--config",
+                           LEGKIT_SOURCE_DIR "/config/robots/go2.yaml"});
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output, Contains("go2.yaml: robot.model:") && Contains("no generic joint"));
 
   CHECK(runLegkit(dir.path, {"config"}).status == 1);  // --print or --check
 }
