@@ -29,6 +29,41 @@ FrontendNoise matchedFrontendNoise(const sim::SimOptions& sim) {
   return {sim.encoder_angle_sigma, sim.foot_position_sigma};
 }
 
+MonteCarloEstimate reduceRuns(const std::string& name, const std::vector<double>& t,
+                              const std::vector<RunSummary>& runs) {
+  if (runs.empty()) throw std::invalid_argument("reduceRuns: " + name + " has no runs");
+  const int M = static_cast<int>(runs.size());
+  MonteCarloEstimate r;
+  r.name = name;
+  r.t = t;
+  r.dof = runs[0].nees_dof;
+  for (const RunSummary& run : runs) {
+    r.runs.push_back(run.metrics);
+    r.us_per_step += run.us_per_step / M;
+  }
+  if (r.dof == 0 || runs[0].nees.empty()) {
+    r.mean_anees = std::numeric_limits<double>::quiet_NaN();
+    return r;
+  }
+  r.bounds = aneesBounds(r.dof, M);
+  r.anees.assign(runs[0].nees.size(), 0.0);
+  for (const RunSummary& run : runs) {
+    if (run.nees.size() != r.anees.size()) {
+      throw std::invalid_argument("reduceRuns: " + name + "'s runs have NEES of different lengths");
+    }
+    for (std::size_t k = 0; k < r.anees.size(); ++k) r.anees[k] += run.nees[k] / M;
+  }
+  int inside = 0;
+  double sum = 0.0;
+  for (const double a : r.anees) {
+    sum += a;
+    inside += a >= r.bounds.lower && a <= r.bounds.upper;
+  }
+  r.mean_anees = sum / static_cast<double>(r.anees.size()) / r.dof;
+  r.fraction_inside = static_cast<double>(inside) / static_cast<double>(r.anees.size());
+  return r;
+}
+
 std::vector<MonteCarloEstimate> monteCarlo(const MonteCarloOptions& options,
                                            const std::vector<NamedEstimator>& estimators) {
   if (options.runs < 1) throw std::invalid_argument("monteCarlo: runs must be at least 1");
@@ -101,33 +136,15 @@ std::vector<MonteCarloEstimate> monteCarlo(const MonteCarloOptions& options,
   for (std::thread& t : pool) t.join();
   if (first_error) std::rethrow_exception(first_error);
 
-  std::vector<MonteCarloEstimate> out(E);
+  std::vector<MonteCarloEstimate> out;
+  out.reserve(E);
   for (std::size_t e = 0; e < E; ++e) {
-    MonteCarloEstimate& r = out[e];
-    r.name = estimators[e].name;
-    r.t = times;
-    r.dof = results[0][e].nees_dof;
+    std::vector<RunSummary> runs(M);
     for (int j = 0; j < M; ++j) {
-      r.runs.push_back(metrics[j][e]);
-      r.us_per_step += results[j][e].us_per_step / M;
+      runs[j] = {metrics[j][e], std::move(results[j][e].nees), results[j][e].nees_dof,
+                 results[j][e].us_per_step};
     }
-    if (r.dof == 0 || results[0][e].nees.empty()) {
-      r.mean_anees = std::numeric_limits<double>::quiet_NaN();
-      continue;
-    }
-    r.bounds = aneesBounds(r.dof, M);
-    r.anees.assign(results[0][e].nees.size(), 0.0);
-    for (int j = 0; j < M; ++j) {
-      for (std::size_t k = 0; k < r.anees.size(); ++k) r.anees[k] += results[j][e].nees[k] / M;
-    }
-    int inside = 0;
-    double sum = 0.0;
-    for (const double a : r.anees) {
-      sum += a;
-      inside += a >= r.bounds.lower && a <= r.bounds.upper;
-    }
-    r.mean_anees = sum / static_cast<double>(r.anees.size()) / r.dof;
-    r.fraction_inside = static_cast<double>(inside) / static_cast<double>(r.anees.size());
+    out.push_back(reduceRuns(estimators[e].name, times, runs));
   }
   return out;
 }

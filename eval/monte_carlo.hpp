@@ -88,6 +88,21 @@ struct MonteCarloEstimate {
 // kinematic-model error (SimOptions::foot_position_sigma) as the contact point's uncertainty.
 FrontendNoise matchedFrontendNoise(const sim::SimOptions& sim);
 
+// What the reduction below needs of one run of one estimator.
+struct RunSummary {
+  Metrics metrics;
+  std::vector<double> nees;  // NEES_k at each row (empty without covariance)
+  int nees_dof = 0;
+  double us_per_step = 0.0;
+};
+
+// The reduction of monteCarlo: one estimator's runs j = 0..M-1, in run order, into its estimate
+// (ANEES_k, bounds, inside, mean). monteCarlo and `legkit merge` (which recomputes a sharded
+// study from its shards' per-run rows) share it, so that the two give the same bits. Throws
+// std::invalid_argument without runs or when the runs' NEES lengths differ.
+MonteCarloEstimate reduceRuns(const std::string& name, const std::vector<double>& t,
+                              const std::vector<RunSummary>& runs);
+
 // Throws std::invalid_argument for runs < 1, RunFailedError when an estimator fails in a run;
 // rethrows the first error of any run.
 std::vector<MonteCarloEstimate> monteCarlo(const MonteCarloOptions& options,

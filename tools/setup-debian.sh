@@ -7,6 +7,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libyaml-cpp-dev
   libmujoco-dev libqhull-dev libgl-dev
   python3-matplotlib python3-numpy python3-h5py
+  parallel
   python3-dev pybind11-dev python3-pybind11 python3-pytest jupyter-nbconvert python3-ipykernel
   liborocos-kdl-dev libkdl-parser-dev liburdfdom-dev libtinyxml-dev
 )

@@ -15,7 +15,9 @@
 #include "allan_command.hpp"
 #include "cassie_command.hpp"
 #include "config_command.hpp"
+#include "eval_command.hpp"
 #include "lie_accuracy.hpp"
+#include "merge_command.hpp"
 #include "robot_command.hpp"
 #include "run_command.hpp"
 #include "sim_command.hpp"
@@ -82,6 +84,8 @@ int main(int argc, char** argv) {
   legkit::tools::ConfigCommand config(app);
   legkit::tools::RobotCommand robot(app);
   legkit::tools::TuneCommand tune(app);
+  legkit::tools::EvalCommand eval(app);    // a folder of logs, shardable (--shard i/N)
+  legkit::tools::MergeCommand merge(app);  // the shards of a study or eval combined
 
   try {
     app.parse(argc, argv);
@@ -102,6 +106,8 @@ int main(int argc, char** argv) {
       if (config.parsed()) return config.run(std::cout);
       if (robot.parsed()) return robot.run(std::cout);
       if (tune.parsed()) return tune.run(std::cout);
+      if (eval.parsed()) return eval.run(std::cout);
+      if (merge.parsed()) return merge.run(std::cout);
       return static_cast<int>(kExitOk);
     }();
   } catch (const UsageError& e) {  // e.g. an unknown leg or a malformed --dropout

@@ -9,16 +9,18 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <mutex>
 #include <random>
 #include <sstream>
 
+#include "consistency_report.hpp"
+#include "convergence_report.hpp"
 #include "estimation/estimators.hpp"
 #include "eval/bias_variance.hpp"
 #include "eval/metrics.hpp"
 #include "eval/monte_carlo.hpp"
 #include "eval/runner.hpp"
 #include "output.hpp"
+#include "shard.hpp"
 #include "study_filters.hpp"
 #include "study_fusion.hpp"
 #include "validators.hpp"
@@ -28,17 +30,20 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A study's table, kept in memory while the runs go on and written atomically at the end.
-std::ostringstream newCsv() {
-  std::ostringstream csv;
-  csv << std::setprecision(8);
-  return csv;
-}
-
 std::string fixed(double value, int precision) {
   std::ostringstream os;
   os << std::fixed << std::setprecision(precision) << value;
   return os.str();
+}
+
+// --out, or legkit-out/study-<name>, with -shard-<i>-of-<N> for a shard (shards on one machine
+// must not share a folder).
+fs::path outputFolder(const std::string& given, const std::string& study, const Shard& shard) {
+  if (!given.empty()) return given;
+  return "legkit-out/study-" + study +
+         (shard.whole()
+              ? std::string()
+              : "-shard-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count));
 }
 
 // Progress on standard error: redrawn in place on a terminal, plain lines into a file or pipe.
@@ -47,6 +52,22 @@ Progress stderrProgress() {
 }
 
 }  // namespace
+
+int StudyCommand::writeShard(std::ostream& out, const std::string& study, const fs::path& dir,
+                             const std::function<void(std::ostream&)>& rows,
+                             const ShardRun& run) const {
+  OutputFolder folder(dir, kShardManifest);
+  folder.write(kStudyRows, rows);
+  folder.writeManifest(shardManifest(
+      "study " + study, {{"runs", run.runs}, {"duration", run.duration}, {"seed", seed_}},
+      run.shard, run.block));
+  out << "study " << study << ", shard " << run.shard.text() << ": runs " << run.block.begin << ".."
+      << run.block.end - 1 << " of " << run.runs << " (seeds " << seed_ + run.block.begin << ".."
+      << seed_ + run.block.end - 1 << ") in " << dir.string()
+      << "/; `legkit merge OUT SHARD_DIR...` makes the study's table and files from all "
+      << run.shard.count << " shards\n";
+  return kExitOk;
+}
 
 StudyCommand::StudyCommand(CLI::App& app)
     : command_(app.add_subcommand("study", "Monte Carlo studies behind the chapters' figures")),
@@ -74,9 +95,17 @@ StudyCommand::StudyCommand(CLI::App& app)
     c->add_option("--threads", threads_, "Worker threads (0: every core)")
         ->check(wholeRange(0, 256))
         ->capture_default_str();
-    c->add_option("--out", out_dir_, "Output folder (default legkit-out/study-<name>)")
+    c->add_option("--out", out_dir_,
+                  "Output folder (default legkit-out/study-<name>, -shard-<i>-of-<N> for a shard)")
         ->check(nonEmptyName());
     c->add_flag("!--no-plots", plots_, "Do not draw the PNG figure");
+  }
+  for (CLI::App* c : {consistency_, convergence_, sweep_}) {
+    c->add_option("--shard", shard_,
+                  "Run shard i of N (a block of the runs) into --out; `legkit merge` combines "
+                  "the N shards into exactly the single-machine study")
+        ->check(shardSpec())
+        ->capture_default_str();
   }
 }
 
@@ -109,58 +138,44 @@ int StudyCommand::plot(std::ostream& out, const std::string& study, const std::s
 // looks consistent for the first minute (chapter 57.10), so the table also gives the ANEES of
 // the last tenth of the run.
 int StudyCommand::consistency(std::ostream& out) const {
-  const fs::path dir =
-      out_dir_.empty() ? fs::path("legkit-out/study-consistency") : fs::path(out_dir_);
+  const Shard shard = parseShard(shard_);
+  const int runs = runs_ > 0 ? runs_ : 12;
+  const double duration = duration_ > 0 ? duration_ : 300.0;
+  const Block block = shardBlock(shard, runs, "runs");
+  const fs::path dir = outputFolder(out_dir_, "consistency", shard);
   makeOutputFolder(dir);  // before the runs: a bad --out fails at once
   eval::MonteCarloOptions options;
-  options.runs = runs_ > 0 ? runs_ : 12;
-  options.sim.duration = duration_ > 0 ? duration_ : 300.0;
-  options.first_seed = seed_;
+  options.runs = block.end - block.begin;
+  options.sim.duration = duration;
+  // Run j is seeded seed + j, sharded or not.
+  options.first_seed = seed_ + static_cast<unsigned>(block.begin);
   options.threads = threads_;
   options.prior = eval::InitialPrior{};
   Progress progress = stderrProgress();
   options.on_progress = [&](int done, int total) { progress.run("consistency", done, total); };
+  MonteCarloRows rows{block.begin, filterNames(), {}, {}, {}};
+  rows.runs.assign(rows.names.size(), std::vector<eval::RunSummary>(options.runs));
+  rows.extra.assign(rows.names.size(), std::vector<std::vector<double>>(options.runs));
+  options.on_run = [&rows](int j, std::size_t e, const io::Log&, const eval::RunResult& run) {
+    rows.runs[e][j] = {{}, run.nees, run.nees_dof, run.us_per_step};  // each slot written once
+  };
   std::vector<eval::NamedEstimator> filters;
-  filters.reserve(filterNames().size());
-  for (const std::string& name : filterNames()) {
+  filters.reserve(rows.names.size());
+  for (const std::string& name : rows.names) {
     filters.push_back({name, [name] { return makeEstimator(name); }});
   }
   const std::vector<eval::MonteCarloEstimate> result = eval::monteCarlo(options, filters);
   progress.clear();
-
-  std::ostringstream csv = newCsv();
-  csv << "# runs " << options.runs << '\n' << "filter,dof,lower,upper,t,anees\n";
-  const std::size_t every = 10;  // 100 Hz is plenty for the figure
-  for (const eval::MonteCarloEstimate& r : result) {
-    for (std::size_t k = 0; k < r.anees.size(); k += every) {
-      csv << r.name << ',' << r.dof << ',' << r.bounds.lower << ',' << r.bounds.upper << ','
-          << r.t[k] << ',' << r.anees[k] << '\n';
-    }
+  rows.t = result.front().t;
+  for (std::size_t e = 0; e < result.size(); ++e) {
+    for (int j = 0; j < options.runs; ++j) rows.runs[e][j].metrics = result[e].runs[j];
   }
-
-  out << "Consistency on the default trot: " << options.runs << " runs x " << options.sim.duration
-      << " s, initial errors and biases drawn from the filters' prior\n\n";
-  std::vector<std::vector<std::string>> table = {{"filter", "dof", "ANEES/dof", "last 10 %",
-                                                  "95 % bounds / dof", "inside [%]",
-                                                  "pos RMSE [m]"}};
-  for (const eval::MonteCarloEstimate& r : result) {
-    double pos = 0.0;
-    for (const eval::Metrics& m : r.runs) pos += m.position_rmse / r.runs.size();
-    const std::size_t from = r.anees.size() - std::max<std::size_t>(1, r.anees.size() / 10);
-    double late = 0.0;
-    for (std::size_t k = from; k < r.anees.size(); ++k) late += r.anees[k];
-    late /= static_cast<double>((r.anees.size() - from) * r.dof);
-    table.push_back(
-        {r.name, std::to_string(r.dof), fixed(r.mean_anees, 2), fixed(late, 2),
-         "[" + fixed(r.bounds.lower / r.dof, 2) + ", " + fixed(r.bounds.upper / r.dof, 2) + "]",
-         fixed(100.0 * r.fraction_inside, 1), fixed(pos, 3)});
+  if (shard.whole()) {
+    reportConsistency(out, dir, rows, duration);
+    return plot(out, "consistency", dir.string());
   }
-  printTable(out, table);
-  out << "\n(ANEES/dof: the mean over time of ANEES_k / dof; last 10 %: the same over the last "
-         "tenth of the run; inside: the share of samples k whose ANEES_k lies inside the "
-         "bounds)\n";
-  writeAtomically(dir / "consistency.csv", [&](std::ostream& f) { f << csv.str(); });
-  return plot(out, "consistency", dir.string());
+  return writeShard(out, "consistency", dir, [&](std::ostream& f) { writeMonteCarloRows(f, rows); },
+                    {runs, duration, shard, block});
 }
 
 // Each filter started with its attitude turned by a given angle about a random axis (the same
@@ -170,42 +185,39 @@ int StudyCommand::consistency(std::ostream& out) const {
 // judged; that is also why velocity is compared in the body frame: a heading error that is kept
 // rotates the world-frame velocity (0.5 m/s x 15 deg = 0.13 m/s).
 int StudyCommand::convergence(std::ostream& out) const {
-  const std::vector<std::string> names = {"linear-kf", "eskf", "invariant-ekf"};
+  const Shard shard = parseShard(shard_);
   std::vector<double> angles;
   for (int a = 5; a <= 90; a += 5) angles.push_back(a);
   const int runs = runs_ > 0 ? runs_ : 10;
   const double duration = duration_ > 0 ? duration_ : 20.0;
+  const Block block = shardBlock(shard, runs, "runs");
   constexpr double tilt_limit = 2.0 * M_PI / 180.0, velocity_limit = 0.1, settle = 5.0;
 
-  const fs::path dir =
-      out_dir_.empty() ? fs::path("legkit-out/study-convergence") : fs::path(out_dir_);
+  const fs::path dir = outputFolder(out_dir_, "convergence", shard);
   makeOutputFolder(dir);
-  std::ostringstream csv = newCsv();
-  csv << "# runs " << runs << " duration " << duration << '\n'
-      << "filter,angle_deg,runs,converged_fraction,median_time_s\n";
-  // table[angle][filter] = (fraction, median time)
-  std::vector<std::vector<std::pair<double, double>>> table(angles.size());
+  ConvergenceRows rows = convergenceRows(block.begin, block.end - block.begin, angles,
+                                         {"linear-kf", "eskf", "invariant-ekf"});
   Progress progress = stderrProgress();
   for (std::size_t a = 0; a < angles.size(); ++a) {
     const double angle = angles[a] * M_PI / 180.0;
     eval::MonteCarloOptions options;
-    options.runs = runs;
+    options.runs = rows.count;
     options.sim.duration = duration;
-    options.first_seed = seed_;
+    options.first_seed = seed_ + static_cast<unsigned>(block.begin);  // run j: seed_ + j
     options.threads = threads_;
     const std::string what = "convergence, " + fixed(angles[a], 0) + " deg";
     options.on_progress = [&](int done, int total) { progress.run(what, done, total); };
-    options.initial_state = [angle, this](const io::Log& log, int run) {
-      std::mt19937 rng(seed_ * 7919u + static_cast<unsigned>(run));
+    const unsigned first = static_cast<unsigned>(block.begin);
+    options.initial_state = [angle, first, this](const io::Log& log, int run) {
+      std::mt19937 rng(seed_ * 7919u + first + static_cast<unsigned>(run));
       std::normal_distribution<double> n;
       const Eigen::Vector3d axis = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
       EstimateSample x0 = eval::initialState(log);
       x0.q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis)) * x0.q;
       return x0;
     };
-    std::vector<std::vector<double>> times(names.size());  // convergence times, converged runs
-    std::mutex mutex;
-    options.on_run = [&](int, std::size_t e, const io::Log& log, const eval::RunResult& run) {
+    // Each run's slot written once, by the thread that ran it.
+    options.on_run = [&, a](int j, std::size_t e, const io::Log& log, const eval::RunResult& run) {
       const double t_end = log.rows.back().t;
       double t_c = log.rows.front().t;  // the last time the limits were broken
       for (std::size_t k = 0; k < log.rows.size(); ++k) {
@@ -216,110 +228,79 @@ int StudyCommand::convergence(std::ostream& out) const {
             (x.q.conjugate() * x.v - row.gt_q.conjugate() * row.gt_v).norm() < velocity_limit;
         if (!ok) t_c = row.t;
       }
-      if (t_c <= t_end - settle) {
-        const std::lock_guard<std::mutex> lock(mutex);
-        times[e].push_back(t_c - log.rows.front().t);
-      }
+      if (t_c <= t_end - settle) rows.time[a][e][j] = t_c - log.rows.front().t;
     };
     std::vector<eval::NamedEstimator> filters;
-    filters.reserve(names.size());
-    for (const std::string& name : names) {
+    filters.reserve(rows.filters.size());
+    for (const std::string& name : rows.filters) {
       filters.push_back(
           {name, [name, angle] { return makeWithInitialAttitudeSigma(name, angle); }});
     }
     eval::monteCarlo(options, filters);
-    for (std::size_t e = 0; e < names.size(); ++e) {
-      std::vector<double>& t = times[e];
-      std::sort(t.begin(), t.end());
-      const double fraction = static_cast<double>(t.size()) / runs;
-      const double median = t.empty() ? NAN : t[t.size() / 2];
-      table[a].emplace_back(fraction, median);
-      csv << names[e] << ',' << angles[a] << ',' << runs << ',' << fraction << ',' << median
-          << '\n';
-    }
   }
   progress.clear();
-
-  out << "Convergence from a wrong initial attitude (" << runs << " runs x " << duration
-      << " s of trot per angle; converged: roll/pitch < 2 deg and body velocity < 0.1 m/s from t_c "
-         "on)\n\n";
-  std::vector<std::vector<std::string>> rows = {{"angle"}, {"[deg]"}};
-  for (const std::string& name : names) {
-    rows[0].push_back(name);
-    rows[1].push_back("converged, median t_c");
+  if (shard.whole()) {
+    reportConvergence(out, dir, rows, duration);
+    return plot(out, "convergence", dir.string());
   }
-  for (std::size_t a = 0; a < angles.size(); ++a) {
-    rows.push_back({fixed(angles[a], 0)});
-    for (const auto& [fraction, median] : table[a]) {
-      rows.back().push_back(fixed(100.0 * fraction, 0) + " %, " +
-                            (std::isnan(median) ? "-" : fixed(median, 2) + " s"));
-    }
-  }
-  printTable(out, rows);
-  writeAtomically(dir / "convergence.csv", [&](std::ostream& f) { f << csv.str(); });
-  return plot(out, "convergence", dir.string());
+  return writeShard(out, "convergence", dir,
+                    [&](std::ostream& f) { writeConvergenceRows(f, rows); },
+                    {runs, duration, shard, block});
 }
 
 // The linear KF with one noise variance at a time scaled from 1e-3 to 1e3 times its nominal
 // value: mean position RMSE, the velocity error split into bias and variance
 // (eval/bias_variance.hpp, 1 s window), and ANEES/dof over the runs.
 int StudyCommand::sweep(std::ostream& out) const {
+  const Shard shard = parseShard(shard_);
   const int runs = runs_ > 0 ? runs_ : 10;
   const double duration = duration_ > 0 ? duration_ : 20.0;
-  constexpr double window = 1.0;  // [s], two strides of the default trot
-  const fs::path dir = out_dir_.empty() ? fs::path("legkit-out/study-sweep") : fs::path(out_dir_);
+  const Block block = shardBlock(shard, runs, "runs");
+  constexpr double window = kSweepWindow;
+  const fs::path dir = outputFolder(out_dir_, "sweep", shard);
   makeOutputFolder(dir);
-  std::ostringstream csv = newCsv();
-  csv << "# runs " << runs << " duration " << duration << " window " << window << '\n'
-      << "parameter,scale,position_rmse,velocity_rmse,velocity_bias,velocity_variance,anees\n";
-  const char* parameters[] = {"foot process noise", "accelerometer noise", "measurement noise"};
-  out << "Linear KF parameter sweep (" << runs << " runs x " << duration << " s of trot each; "
-      << "velocity error split over a " << window << " s window)\n\n";
-  std::vector<std::vector<std::string>> table = {{"parameter", "scale", "pos RMSE [m]",
-                                                  "vel RMSE [m/s]", "vel bias [m/s]",
-                                                  "vel variance [m2/s2]", "ANEES/dof"}};
+  const int count = block.end - block.begin;
+  MonteCarloRows rows{block.begin, {}, {}, {}, {}};
   Progress progress = stderrProgress();
   for (int p = 0; p < 3; ++p) {
-    for (int i = -6; i <= 6; ++i) {
-      const double scale = std::pow(10.0, 0.5 * i);
+    for (int i = 0; i < kSweepScales; ++i) {
+      const double scale = sweepScale(i);
       LinearKfScales scales;
       (p == 0   ? scales.foot_process_noise
        : p == 1 ? scales.accel_noise
                 : scales.measurement_noise) = scale;
       eval::MonteCarloOptions options;
-      options.runs = runs;
+      options.runs = count;
       options.sim.duration = duration;
-      options.first_seed = seed_;
+      options.first_seed = seed_ + static_cast<unsigned>(block.begin);  // run j: seed_ + j
       options.threads = threads_;
       options.frontend_noise = scaledFrontendNoise(eval::matchedFrontendNoise(options.sim), scales);
-      const std::string what = std::string("sweep, ") + parameters[p] + " x " + fixed(scale, 3);
+      const std::string what = "sweep, " + sweepSetting(p, i);
       options.on_progress = [&](int done, int total) { progress.run(what, done, total); };
-      double bias2 = 0.0, variance = 0.0;
-      std::mutex mutex;
-      options.on_run = [&](int, std::size_t, const io::Log& log, const eval::RunResult& run) {
+      std::vector<eval::RunSummary> summaries(count);
+      std::vector<std::vector<double>> extra(count);
+      // Each run's slot written once, by the thread that ran it; summed in run order after.
+      options.on_run = [&](int j, std::size_t, const io::Log& log, const eval::RunResult& run) {
         const eval::BiasVariance bv = eval::velocityBiasVariance(log, run.trajectory, window);
-        const std::lock_guard<std::mutex> lock(mutex);
-        bias2 += bv.bias * bv.bias / runs;
-        variance += bv.variance / runs;
+        summaries[j] = {{}, run.nees, run.nees_dof, run.us_per_step};
+        extra[j] = {bv.bias, bv.variance};
       };
       const auto r =
           eval::monteCarlo(options, {{"linear-kf", [scales] { return makeLinearKf(scales); }}});
-      double pos = 0.0, vel = 0.0;
-      for (const eval::Metrics& m : r[0].runs) {
-        pos += m.position_rmse / runs;
-        vel += m.velocity_rmse / runs;
-      }
-      const double bias = std::sqrt(bias2);
-      csv << parameters[p] << ',' << scale << ',' << pos << ',' << vel << ',' << bias << ','
-          << variance << ',' << r[0].mean_anees << '\n';
-      table.push_back({parameters[p], fixed(scale, 3), fixed(pos, 4), fixed(vel, 4), fixed(bias, 4),
-                       fixed(variance, 6), fixed(r[0].mean_anees, 2)});
+      for (int j = 0; j < count; ++j) summaries[j].metrics = r[0].runs[j];
+      rows.names.push_back(sweepSetting(p, i));
+      rows.t = r[0].t;
+      rows.runs.push_back(std::move(summaries));
+      rows.extra.push_back(std::move(extra));
     }
   }
   progress.clear();
-  printTable(out, table);
-  writeAtomically(dir / "sweep.csv", [&](std::ostream& f) { f << csv.str(); });
-  return plot(out, "sweep", dir.string());
+  if (shard.whole()) {
+    reportSweep(out, dir, rows, duration);
+    return plot(out, "sweep", dir.string());
+  }
+  return writeShard(out, "sweep", dir, [&](std::ostream& f) { writeMonteCarloRows(f, rows); },
+                    {runs, duration, shard, block});
 }
 
 }  // namespace legkit::tools

@@ -12,12 +12,18 @@
 //                              study_faults.hpp
 //   legkit study fusion        proprioception alone against the map-to-odom alignment, delayed
 //                              pose updates and the fixed-lag smoother (57.8), study_fusion.hpp
+// consistency, convergence and sweep take --shard i/N: a block of the runs, its per-run rows
+// written for `legkit merge` (shard.hpp), which makes the study's table and files from them with
+// the same code (consistency_report.hpp, convergence_report.hpp).
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
+#include <functional>
 #include <ostream>
 #include <string>
 
+#include "shard.hpp"
 #include "study_contact.hpp"
 #include "study_faults.hpp"
 
@@ -36,6 +42,15 @@ class StudyCommand {
   int consistency(std::ostream& out) const;
   int convergence(std::ostream& out) const;
   int sweep(std::ostream& out) const;
+  // A shard's output (shard.hpp): its per-run rows (kStudyRows) and its manifest.
+  struct ShardRun {
+    int runs;
+    double duration;
+    Shard shard;
+    Block block;
+  };
+  int writeShard(std::ostream& out, const std::string& study, const std::filesystem::path& dir,
+                 const std::function<void(std::ostream&)>& rows, const ShardRun& run) const;
   // Draws a study's figure (when asked for); kExitInput when the script failed, else kExitOk.
   int plot(std::ostream& out, const std::string& study, const std::string& dir) const;
 
@@ -49,8 +64,9 @@ class StudyCommand {
   int threads_ = 0;
   std::string out_dir_;
   bool plots_ = true;
-  StudyContact contact_;  // `study contact` and `study slip`
-  StudyFaults faults_;    // `study faults` (57.9)
+  std::string shard_ = "1/1";  // `--shard i/N` of consistency and convergence (shard.hpp)
+  StudyContact contact_;       // `study contact` and `study slip`
+  StudyFaults faults_;         // `study faults` (57.9)
 };
 
 }  // namespace legkit::tools

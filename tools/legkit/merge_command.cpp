@@ -1,0 +1,116 @@
+#include "merge_command.hpp"
+
+#include <filesystem>
+#include <iostream>
+
+#include "consistency_report.hpp"
+#include "convergence_report.hpp"
+#include "eval_report.hpp"
+#include "output.hpp"
+#include "shard.hpp"
+#include "validators.hpp"
+
+namespace legkit::tools {
+namespace {
+
+namespace fs = std::filesystem;
+
+int items(const ShardInput& last) {
+  return last.block.end;
+}
+
+}  // namespace
+
+MergeCommand::MergeCommand(CLI::App& app)
+    : command_(
+          app.add_subcommand("merge",
+                             "Combine the shards of a sharded study or eval (--shard i/N) into the "
+                             "single-machine result")) {
+  command_->add_option("out", out_, "Output folder of the merged result")
+      ->required()
+      ->check(nonEmptyName());
+  command_->add_option("shards", shards_, "The N shards' output folders, in any order")
+      ->required()
+      ->check(nonEmptyName());
+  command_->add_flag("!--no-plots", plots_, "Do not draw a study's PNG figure");
+}
+
+int MergeCommand::run(std::ostream& out) const {
+  std::vector<ShardInput> inputs;
+  for (const std::string& dir : shards_) inputs.push_back(readShard(dir));
+  const std::vector<ShardInput> shards = checkShards(std::move(inputs));
+  const std::string kind = shards.front().manifest.at("kind").get<std::string>();
+  if (kind == "study consistency") return study(out, shards, "consistency");
+  if (kind == "study convergence") return study(out, shards, "convergence");
+  if (kind == "study sweep") return study(out, shards, "sweep");
+  if (kind == "eval") return eval(out, shards);
+  throw InputError(shards.front().dir + ": shards of '" + kind +
+                   "', which this legkit cannot merge");
+}
+
+int MergeCommand::study(std::ostream& out, const std::vector<ShardInput>& shards,
+                        const std::string& name) const {
+  const nlohmann::json& options = shards.front().manifest.at("options");
+  const int runs = options.at("runs").get<int>();
+  if (items(shards.back()) != runs) {
+    throw InputError(shards.back().dir + ": the shards end at run " +
+                     std::to_string(items(shards.back())) + " of " + std::to_string(runs) +
+                     "; nothing merged");
+  }
+  const double duration = options.at("duration").get<double>();
+  if (name == "consistency" || name == "sweep") {
+    MonteCarloRows all;
+    for (const ShardInput& s : shards) {
+      appendMonteCarloRows(all, readMonteCarloRows(fs::path(s.dir) / kStudyRows, s.block), s.dir);
+    }
+    makeOutputFolder(out_);
+    if (name == "sweep") {
+      reportSweep(out, out_, all, duration);
+    } else {
+      reportConsistency(out, out_, all, duration);
+    }
+  } else {
+    ConvergenceRows all;
+    for (const ShardInput& s : shards) {
+      appendConvergenceRows(all, readConvergenceRows(fs::path(s.dir) / kStudyRows, s.block), s.dir);
+    }
+    makeOutputFolder(out_);
+    reportConvergence(out, out_, all, duration);
+  }
+  if (!plots_) return kExitOk;
+  const std::string failed = plot("study_plots.py", {name, out_});
+  out << (failed.empty() ? "figure: " + out_ + "/" + name + ".png" : failed) << '\n';
+  return plotFailed(failed) ? kExitInput : kExitOk;
+}
+
+int MergeCommand::eval(std::ostream& out, const std::vector<ShardInput>& shards) const {
+  const nlohmann::json& options = shards.front().manifest.at("options");
+  const nlohmann::json& logs = options.at("logs");
+  if (items(shards.back()) != static_cast<int>(logs.size())) {
+    throw InputError(shards.back().dir + ": the shards end at log " +
+                     std::to_string(items(shards.back())) + " of " + std::to_string(logs.size()) +
+                     "; nothing merged");
+  }
+  std::vector<EvalLogRow> rows;
+  for (const ShardInput& s : shards) {
+    const std::string where = s.dir + "/" + kShardManifest;
+    const std::vector<EvalLogRow> part = evalRowsFromJson(
+        s.manifest.contains("rows") ? s.manifest.at("rows") : nlohmann::json(), where);
+    if (static_cast<int>(part.size()) != s.block.end - s.block.begin) {
+      throw InputError(where + ": " + std::to_string(part.size()) + " logs, its block has " +
+                       std::to_string(s.block.end - s.block.begin) + "; nothing merged");
+    }
+    for (std::size_t k = 0; k < part.size(); ++k) {
+      if (part[k].log != logs.at(s.block.begin + k).get<std::string>()) {
+        throw InputError(where + ": log '" + part[k].log + "' where '" +
+                         logs.at(s.block.begin + k).get<std::string>() +
+                         "' was expected; nothing merged");
+      }
+    }
+    rows.insert(rows.end(), part.begin(), part.end());
+  }
+  makeOutputFolder(out_);
+  return reportEval(out, std::cerr, out_, evalHeading(options), rows);
+}
+
+}  // namespace legkit::tools
