@@ -4,8 +4,8 @@
     tools/bad-inputs/options.py --legkit build/legkit [--dir DIR] [--keep] [--jobs N] [--verbose]
 
 Each option (and each positional argument) of `legkit run`, `tour`, `lie-accuracy`, `sim`, `cassie`,
-`allan`, `config`, `robot`, `tune` and `legkit study consistency|convergence|sweep|contact|slip|
-faults|fusion` is given, one at a time, each of the values
+`allan`, `config`, `robot`, `tune`, `eval`, `merge` and `legkit study consistency|convergence|
+sweep|contact|slip|faults|fusion` is given, one at a time, each of the values
     0  -1  nan  inf  -inf  1e308  ''  a 10000-character string  (and 1e-308 where a number is read)
 with the other arguments that keep an accepted run short (`--duration 1`, `--runs 1`,
 `--no-plots`, a two-second log made once with `legkit sim --duration 2`, an output folder of its
@@ -195,6 +195,16 @@ def options():
         ("--out", dict(path=True, valid=NAMES, long=True)),
     ], tune)
 
+    # legkit eval: a folder holding the short log; legkit merge: shard folders that are not.
+    ev = [("", "{logs}"), ("--config", "{settings}"), out]
+    cmd(["eval"], [
+        ("dir", dict(path=True, positional=True, drop={""})),
+        ("--config", dict(path=True)),
+        ("--shard", {}),
+        ("--out", dict(path=True, valid=NAMES, few=True)),
+    ], ev)
+    cmd(["merge"], [("shards", dict(path=True, positional=True))], [("", "{work}/merged")])
+
     # The studies: one run of one simulated second, no figure.
     mc = [("--runs", "1"), ("--duration", "1"), ("--no-plots", None), out]
     for study in ("consistency", "convergence", "sweep"):
@@ -204,6 +214,7 @@ def options():
             ("--seed", dict(number=True, valid={"0"})),
             ("--threads", dict(number=True, valid={"0"})),
             ("--out", dict(path=True, valid=NAMES, few=True)),
+            ("--shard", {}),
         ], mc)
     physics_study = [("--duration", "1"), ("--no-plots", None), out]
     contact = physics_study + [("--scenarios", "physics-stand")]
@@ -296,7 +307,10 @@ def main():
         settings = os.path.join(work, "settings.yaml")
         with open(settings, "wb") as f:
             subprocess.run([legkit, "config", "--print"], check=True, stdout=f)
-        ctx = {"log": log, "settings": settings}
+        logs = os.path.join(work, "logs")
+        os.makedirs(logs, exist_ok=True)
+        shutil.copy(log, logs)
+        ctx = {"log": log, "settings": settings, "logs": logs}
         cases = [(option, value) for option in options() for value in option.values()]
         with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
             results = list(pool.map(
