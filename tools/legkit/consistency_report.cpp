@@ -7,27 +7,10 @@
 #include <sstream>
 
 #include "output.hpp"
+#include "shard.hpp"
 
 namespace legkit::tools {
 namespace {
-
-std::string fixed(double value, int precision) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(precision) << value;
-  return os.str();
-}
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> fields;
-  std::size_t from = 0;
-  for (std::size_t comma = line.find(','); comma != std::string::npos;
-       comma = line.find(',', from)) {
-    fields.push_back(line.substr(from, comma - from));
-    from = comma + 1;
-  }
-  fields.push_back(line.substr(from));
-  return fields;
-}
 
 std::vector<double> numbers(const std::vector<std::string>& fields, std::size_t from,
                             const std::string& where) {
@@ -80,7 +63,7 @@ MonteCarloRows readMonteCarloRows(const std::filesystem::path& path, const Block
   std::size_t read = 0;  // run lines read
   while (std::getline(in, line)) {
     const std::string where = path.string() + ":" + std::to_string(++number);
-    const std::vector<std::string> f = split(line);
+    const std::vector<std::string> f = splitCsv(line);
     if (number == 1) {
       if (f.front() != "t") throw InputError(where + ": expected the times, 't,...'");
       rows.t = numbers(f, 1, where);
@@ -185,10 +168,11 @@ void reportConsistency(std::ostream& out, const std::filesystem::path& dir,
     double late = 0.0;
     for (std::size_t k = from; k < r.anees.size(); ++k) late += r.anees[k];
     late /= static_cast<double>((r.anees.size() - from) * r.dof);
-    table.push_back(
-        {r.name, std::to_string(r.dof), fixed(r.mean_anees, 2), fixed(late, 2),
-         "[" + fixed(r.bounds.lower / r.dof, 2) + ", " + fixed(r.bounds.upper / r.dof, 2) + "]",
-         fixed(100.0 * r.fraction_inside, 1), fixed(pos, 3)});
+    table.push_back({r.name, std::to_string(r.dof), formatFixed(r.mean_anees, 2),
+                     formatFixed(late, 2),
+                     "[" + formatFixed(r.bounds.lower / r.dof, 2) + ", " +
+                         formatFixed(r.bounds.upper / r.dof, 2) + "]",
+                     formatFixed(100.0 * r.fraction_inside, 1), formatFixed(pos, 3)});
   }
   printTable(out, table);
   out << "\n(ANEES/dof: the mean over time of ANEES_k / dof; last 10 %: the same over the last "
@@ -202,7 +186,7 @@ double sweepScale(int i) {
 }
 
 std::string sweepSetting(int parameter, int i) {
-  return std::string(kSweepParameters[parameter]) + " x " + fixed(sweepScale(i), 3);
+  return std::string(kSweepParameters[parameter]) + " x " + formatFixed(sweepScale(i), 3);
 }
 
 void reportSweep(std::ostream& out, const std::filesystem::path& dir, const MonteCarloRows& rows,
@@ -235,8 +219,9 @@ void reportSweep(std::ostream& out, const std::filesystem::path& dir, const Mont
       const double bias = std::sqrt(bias2);
       csv << kSweepParameters[p] << ',' << scale << ',' << pos << ',' << vel << ',' << bias << ','
           << variance << ',' << anees << '\n';
-      table.push_back({kSweepParameters[p], fixed(scale, 3), fixed(pos, 4), fixed(vel, 4),
-                       fixed(bias, 4), fixed(variance, 6), fixed(anees, 2)});
+      table.push_back({kSweepParameters[p], formatFixed(scale, 3), formatFixed(pos, 4),
+                       formatFixed(vel, 4), formatFixed(bias, 4), formatFixed(variance, 6),
+                       formatFixed(anees, 2)});
     }
   }
   printTable(out, table);

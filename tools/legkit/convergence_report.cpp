@@ -7,25 +7,9 @@
 #include <sstream>
 
 #include "output.hpp"
+#include "shard.hpp"
 
 namespace legkit::tools {
-namespace {
-
-std::string fixed(double value, int precision) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(precision) << value;
-  return os.str();
-}
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> fields;
-  std::istringstream in(line);
-  for (std::string field; std::getline(in, field, ',');) fields.push_back(field);
-  return fields;
-}
-
-}  // namespace
-
 ConvergenceRows convergenceRows(int first, int count, std::vector<double> angles,
                                 std::vector<std::string> filters) {
   ConvergenceRows rows{first, count, std::move(angles), std::move(filters), {}};
@@ -58,7 +42,7 @@ ConvergenceRows readConvergenceRows(const std::filesystem::path& path, const Blo
   std::vector<std::string> head[2];
   for (int i = 0; i < 2; ++i) {
     const char* key = i == 0 ? "angles" : "filters";
-    if (!std::getline(in, line) || (head[i] = split(line)).size() < 2 || head[i][0] != key) {
+    if (!std::getline(in, line) || (head[i] = splitCsv(line)).size() < 2 || head[i][0] != key) {
       throw InputError(path.string() + ":" + std::to_string(i + 1) + ": expected '" + key +
                        ",...'");
     }
@@ -74,7 +58,7 @@ ConvergenceRows readConvergenceRows(const std::filesystem::path& path, const Blo
   std::size_t read = 0;
   for (int number = 3; std::getline(in, line); ++number, ++read) {
     const std::string where = path.string() + ":" + std::to_string(number);
-    const std::vector<std::string> f = split(line);
+    const std::vector<std::string> f = splitCsv(line);
     const std::size_t a = read / per_angle;
     const int j = static_cast<int>(read % per_angle / rows.filters.size());
     const std::size_t e = read % rows.filters.size();
@@ -145,10 +129,10 @@ void reportConvergence(std::ostream& out, const std::filesystem::path& dir,
     cells[1].push_back("converged, median t_c");
   }
   for (std::size_t a = 0; a < rows.angles.size(); ++a) {
-    cells.push_back({fixed(rows.angles[a], 0)});
+    cells.push_back({formatFixed(rows.angles[a], 0)});
     for (const auto& [fraction, median] : table[a]) {
-      cells.back().push_back(fixed(100.0 * fraction, 0) + " %, " +
-                             (std::isnan(median) ? "-" : fixed(median, 2) + " s"));
+      cells.back().push_back(formatFixed(100.0 * fraction, 0) + " %, " +
+                             (std::isnan(median) ? "-" : formatFixed(median, 2) + " s"));
     }
   }
   printTable(out, cells);

@@ -204,6 +204,13 @@ void OutputFolder::writeManifest(nlohmann::json summary) {
   writeAtomically(path(manifest_), [&](std::ostream& f) { f << summary.dump(2) << '\n'; });
 }
 
+std::string formatFixed(double value, int precision) {
+  if (std::isnan(value)) return "-";
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(precision) << value;
+  return os.str();
+}
+
 std::string formatG(double value, int digits) {
   if (std::isnan(value)) return "-";
   char text[32];

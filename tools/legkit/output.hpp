@@ -93,6 +93,8 @@ void printTable(std::ostream& out, const std::vector<std::vector<std::string>>& 
 
 // value in %.<digits>g, "-" for NaN (a table's cell).
 std::string formatG(double value, int digits);
+// value with `precision` digits after the point, "-" for NaN (a table's cell).
+std::string formatFixed(double value, int precision);
 
 // A study's progress on standard error, never in its results: "consistency: run 3/12", redrawn in
 // place when it goes to a terminal (in_place), else as plain lines, at most about ten per batch

@@ -186,6 +186,18 @@ std::vector<ShardInput> checkShards(std::vector<ShardInput> shards) {
   return ordered;
 }
 
+std::vector<std::string> splitCsv(const std::string& line) {
+  std::vector<std::string> fields;
+  std::size_t from = 0;
+  for (std::size_t comma = line.find(','); comma != std::string::npos;
+       comma = line.find(',', from)) {
+    fields.push_back(line.substr(from, comma - from));
+    from = comma + 1;
+  }
+  fields.push_back(line.substr(from));
+  return fields;
+}
+
 std::string exact(double value) {
   if (std::isnan(value)) return "nan";
   char text[32];

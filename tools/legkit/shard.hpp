@@ -71,6 +71,9 @@ ShardInput readShard(const std::string& dir);
 // InputError naming the folders and what differs.
 std::vector<ShardInput> checkShards(std::vector<ShardInput> shards);
 
+// The comma-separated fields of one row of a shard's rows file (an empty last field kept).
+std::vector<std::string> splitCsv(const std::string& line);
+
 // Full-precision numbers for per-item rows: %.17g (NaN as "nan"), read back bit for bit.
 std::string exact(double value);
 // Parses one exact() field; throws InputError "<where>: ..." unless it is a whole number.

@@ -30,12 +30,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string fixed(double value, int precision) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(precision) << value;
-  return os.str();
-}
-
 // --out, or legkit-out/study-<name>, with -shard-<i>-of-<N> for a shard (shards on one machine
 // must not share a folder).
 fs::path outputFolder(const std::string& given, const std::string& study, const Shard& shard) {
@@ -205,7 +199,7 @@ int StudyCommand::convergence(std::ostream& out) const {
     options.sim.duration = duration;
     options.first_seed = seed_ + static_cast<unsigned>(block.begin);  // run j: seed_ + j
     options.threads = threads_;
-    const std::string what = "convergence, " + fixed(angles[a], 0) + " deg";
+    const std::string what = "convergence, " + formatFixed(angles[a], 0) + " deg";
     options.on_progress = [&](int done, int total) { progress.run(what, done, total); };
     const unsigned first = static_cast<unsigned>(block.begin);
     options.initial_state = [angle, first, this](const io::Log& log, int run) {

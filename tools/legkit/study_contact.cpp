@@ -50,13 +50,6 @@ constexpr double kSlipMargin = 0.05;
 // A detected onset this close to a sample of a slide too short to be a true slip is not false.
 constexpr double kShortSlide = 0.02;  // [s]
 
-std::string fixed(double value, int precision) {
-  if (std::isnan(value)) return "-";
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(precision) << value;
-  return os.str();
-}
-
 std::ostringstream newCsv() {
   std::ostringstream csv;
   csv << std::setprecision(8);
@@ -198,7 +191,7 @@ sim::PhysicsResult simulate(const sim::PhysicsOptions& o) {
 
 std::string scenarioLabel(const sim::PhysicsOptions& o, const sim::PhysicsResult& r) {
   std::string label = o.scenario.name;
-  if (r.status.fell) label += " (fell at " + fixed(r.status.time, 2) + " s)";
+  if (r.status.fell) label += " (fell at " + formatFixed(r.status.time, 2) + " s)";
   return label;
 }
 
@@ -450,11 +443,11 @@ int StudyContact::contact(std::ostream& out) const {
           << s.missed_touchdowns << ',' << s.missed_liftoffs << ',' << s.spurious_toggles << ','
           << undecided << ',' << m.position_rmse << ',' << m.velocity_rmse << '\n';
       table.push_back({detector == detectors.front() ? scenarioLabel(o, sim) : "", detector,
-                       fixed(s.precision, 3), fixed(s.recall, 3), fixed(s.f1, 3),
-                       fixed(s.touchdown_delay_mean, 1), fixed(s.touchdown_delay_p95, 1),
-                       fixed(s.liftoff_delay_mean, 1), fixed(s.liftoff_delay_p95, 1),
-                       fixed(s.chatter_per_min, 1), fixed(undecided, 1),
-                       fixed(m.position_rmse, 3)});
+                       formatFixed(s.precision, 3), formatFixed(s.recall, 3), formatFixed(s.f1, 3),
+                       formatFixed(s.touchdown_delay_mean, 1),
+                       formatFixed(s.touchdown_delay_p95, 1), formatFixed(s.liftoff_delay_mean, 1),
+                       formatFixed(s.liftoff_delay_p95, 1), formatFixed(s.chatter_per_min, 1),
+                       formatFixed(undecided, 1), formatFixed(m.position_rmse, 3)});
       const std::array<double, 4> values = {s.f1, s.touchdown_delay_mean, s.liftoff_delay_mean,
                                             s.chatter_per_min};
       for (int j = 0; j < 4; ++j) {
@@ -496,7 +489,7 @@ int StudyContact::contact(std::ostream& out) const {
     summary.push_back({d});
     for (int j = 0; j < 4; ++j) {
       summary.back().push_back(
-          fixed(counts[d][j] ? sums[d][j] / counts[d][j] : kNaN, j == 0 ? 3 : 1));
+          formatFixed(counts[d][j] ? sums[d][j] / counts[d][j] : kNaN, j == 0 ? 3 : 1));
     }
   }
   printTable(out, summary);
@@ -577,31 +570,32 @@ int StudyContact::slip(std::ostream& out) const {
         const eval::Metrics m = eval::compare(log, run.trajectory);
         if (watched) {
           const slip::TerrainClassifier& c = terrain.classifier;
-          std::string mu = fixed(o.scenario.terrain.friction, 2);
+          std::string mu = formatFixed(o.scenario.terrain.friction, 2);
           for (const sim::FrictionPatch& patch : o.scenario.terrain.patches) {
-            mu += " (" + fixed(patch.friction, 2) + " patch)";
+            mu += " (" + formatFixed(patch.friction, 2) + " patch)";
           }
           terrain_csv << name << ',' << mu << ',' << slip::terrainClassName(c.terrain()) << ','
                       << c.frictionEstimate() << ',' << c.frictionLowerBound() << ',' << c.onsets()
                       << ',' << c.slipRate() << ',' << c.slipFraction() << '\n';
           terrain_table.push_back({scenarioLabel(o, sim), mu, slip::terrainClassName(c.terrain()),
-                                   fixed(c.frictionEstimate(), 3), fixed(c.frictionLowerBound(), 3),
-                                   std::to_string(c.onsets()), fixed(c.slipRate(), 2),
-                                   fixed(100.0 * c.slipFraction(), 1)});
+                                   formatFixed(c.frictionEstimate(), 3),
+                                   formatFixed(c.frictionLowerBound(), 3),
+                                   std::to_string(c.onsets()), formatFixed(c.slipRate(), 2),
+                                   formatFixed(100.0 * c.slipFraction(), 1)});
         }
         const SlipScores s = scoreSlips(log, run);
         csv << name << ',' << f << ',' << slip::slipReactionName(reaction) << ',' << m.position_rmse
             << ',' << m.velocity_rmse << ',' << s.slips << ',' << s.detected << ',' << s.delay_mean
             << ',' << s.delay_p95 << ',' << s.short_slides_per_min << ',' << s.false_alarms_per_min
             << '\n';
-        row.push_back(fixed(m.position_rmse, 3));
-        velocity.push_back(fixed(m.velocity_rmse, 3));
+        row.push_back(formatFixed(m.position_rmse, 3));
+        velocity.push_back(formatFixed(m.velocity_rmse, 3));
         if (reaction != slip::SlipReaction::kNone) continue;
         // Detection is scored without a reaction: what the detector sees of an untouched filter.
-        detection.push_back({f == filters.front() ? scenarioLabel(o, sim) : "", f,
-                             std::to_string(s.slips), std::to_string(s.detected),
-                             fixed(s.delay_mean, 1), fixed(s.delay_p95, 1),
-                             fixed(s.short_slides_per_min, 1), fixed(s.false_alarms_per_min, 1)});
+        detection.push_back(
+            {f == filters.front() ? scenarioLabel(o, sim) : "", f, std::to_string(s.slips),
+             std::to_string(s.detected), formatFixed(s.delay_mean, 1), formatFixed(s.delay_p95, 1),
+             formatFixed(s.short_slides_per_min, 1), formatFixed(s.false_alarms_per_min, 1)});
         if (name == "physics-ice" && f == "invariant-ekf") {
           trace << "# physics-ice foot " << kLegs[kTraceFoot] << " filter " << f << " threshold "
                 << run.threshold << '\n'
@@ -640,7 +634,8 @@ int StudyContact::slip(std::ostream& out) const {
       const PipelineRun run = runPipeline(sim.log, *filter, *pipeline, false);
       const eval::Metrics m = eval::compare(sim.log, run.trajectory);
       sources_csv << source << ',' << f << ',' << m.position_rmse << ',' << m.velocity_rmse << '\n';
-      sources_table.back().push_back(fixed(m.position_rmse, 3) + ", " + fixed(m.velocity_rmse, 3));
+      sources_table.back().push_back(formatFixed(m.position_rmse, 3) + ", " +
+                                     formatFixed(m.velocity_rmse, 3));
     }
   }
   progress.clear();

@@ -41,11 +41,9 @@ constexpr double kRpeDistance = 10.0;       // [m]
 constexpr double kTraceRate = 10.0;         // rows of fusion-trace.csv per second
 constexpr double kJumpWindow = 5.0;         // [s] either side of the loop closure
 
+// A figure of the study's tables: "n/c" when it could not be computed.
 std::string fixed(double value, int precision) {
-  if (!std::isfinite(value)) return "n/c";
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(precision) << value;
-  return os.str();
+  return std::isfinite(value) ? formatFixed(value, precision) : "n/c";
 }
 
 json number(double x) {
