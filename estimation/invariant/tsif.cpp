@@ -256,6 +256,10 @@ Tsif::Tsif(const TsifParams& params) : params_(params), gate_(params.gating, "Ts
     throw std::invalid_argument("Tsif: iterations must be at least 1, got " +
                                 std::to_string(params.iterations));
   }
+  if (!(params.step_tolerance >= 0.0)) {
+    throw std::invalid_argument("Tsif: step_tolerance must be non-negative, got " +
+                                std::to_string(params.step_tolerance));
+  }
   reset(EstimateSample{});
 }
 
@@ -303,6 +307,8 @@ void Tsif::initialise(const InitialState& s) {
 void Tsif::step(const StepInput& raw) {
   InputCopies copies;
   const auto [in, imu_admitted] = admit(raw, has_previous_, params_.limits, "Tsif", copies, slots_);
+  last_iterations_ = 0;  // a step without a pair to solve takes none
+  last_step_norm2_ = 0.0;
   std::array<const ContactMeasurement*, kFeet> contact{};  // the stance feet at k+1
   for (const ContactMeasurement& c : in.stance()) contact[c.foot] = &c;
 
@@ -497,6 +503,9 @@ void Tsif::step(const StepInput& raw) {
     x1_linearised = x1;
     x1 = x1.plus(dx1);
     dtheta1 = dx1.segment<3>(kTheta);
+    ++last_iterations_;
+    last_step_norm2_ = dx1.dot(S.selfadjointView<Eigen::Lower>() * dx1);
+    if (last_step_norm2_ < params_.step_tolerance) break;
   }
 
   x1.R = lie::SO3d::fromQuaternion(x1.R.quaternion());  // remove rounding drift

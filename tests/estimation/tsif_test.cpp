@@ -299,6 +299,62 @@ TEST_CASE("TSIF: a noiseless trot is tracked", "[57.5][tsif]") {
   }
 }
 
+TEST_CASE("TSIF: Gauss-Newton stops on its step tolerance, within its maximum", "[57.5][tsif]") {
+  // On a trot every step's correction is small: iterating to convergence moves the estimate by
+  // micrometres from the one-iteration filter (the ESKF's numbers), and never takes more than
+  // the maximum. A large velocity error with all feet in stance is a large first correction:
+  // its step is far above the tolerance, so a second iteration follows.
+  const io::Log log = trotLog(2.0, 3, false);
+  const std::vector<StepInput> inputs = inputsOf(log);
+  TsifParams params;
+  params.iterations = 2;
+  params.step_tolerance = 1e-12;
+  Tsif iterated(params), one;
+  iterated.reset(eval::initialState(log));
+  one.reset(eval::initialState(log));
+  double dp = 0.0;
+  for (const StepInput& in : inputs) {
+    iterated.step(in);
+    one.step(in);
+    REQUIRE(iterated.lastIterations() <= params.iterations);
+    REQUIRE(one.lastIterations() <= 1);
+    dp = std::max(dp, (iterated.state().p - one.state().p).norm());
+  }
+  INFO("largest position difference " << dp << " m");
+  CHECK(dp < 1e-3);
+
+  EstimateSample x0 = eval::initialState(log);
+  x0.v += Eigen::Vector3d(1.0, 0.0, 0.0);  // 1 m/s off
+  Tsif off(params);
+  off.reset(x0);
+  off.step(inputs[0]);
+  off.step(inputs[1]);
+  INFO("first step's dx1^T S dx1 " << off.lastStepNorm2());
+  CHECK(off.lastIterations() == 2);
+
+  // Even 3 m/s and 0.2 rad of roll are corrected in many small steps at 1 kHz: after 0.1 s the
+  // converged filter's velocity is within a millimetre per second of the one-iteration filter's.
+  EstimateSample y0 = eval::initialState(log);
+  y0.v += Eigen::Vector3d(3.0, 0.0, 0.0);
+  y0.q = y0.q * Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()));
+  params.iterations = 5;
+  params.step_tolerance = 1e-6;
+  Tsif converged(params), linearised;
+  converged.reset(y0);
+  linearised.reset(y0);
+  for (std::size_t k = 0; k <= 100; ++k) {
+    converged.step(inputs[k]);
+    linearised.step(inputs[k]);
+  }
+  const Eigen::Vector3d v_true = log.rows[100].gt_v;
+  const double e_converged = (converged.estimate().v - v_true).norm();
+  const double e_linearised = (linearised.estimate().v - v_true).norm();
+  WARN("velocity error after 0.1 s: converged " << e_converged << " m/s, one iteration "
+                                                << e_linearised << " m/s");
+  CHECK(std::abs(e_converged - e_linearised) < 1e-3);
+  CHECK(e_converged < 0.2);
+}
+
 TEST_CASE("TSIF: a touchdown tells the filter nothing about the base", "[57.5][tsif]") {
   // A foot that touches down is new: only its own kinematics place it, so the base's estimate
   // and covariance after the step are those of the same step without the contact. (A prior on
@@ -410,6 +466,9 @@ TEST_CASE("TSIF: bad input throws and leaves the state untouched", "[57.5][tsif]
   params = TsifParams{};
   params.iterations = 0;
   CHECK_THROWS_WITH(Tsif(params), Catch::Contains("iterations"));
+  params.iterations = 1;
+  params.step_tolerance = -1.0;
+  CHECK_THROWS_WITH(Tsif(params), Catch::Contains("step_tolerance"));
 }
 
 TEST_CASE("TSIF: Monte Carlo NEES on the default trot", "[57.5][tsif][nees]") {
