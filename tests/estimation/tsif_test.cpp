@@ -12,6 +12,7 @@
 #include "eval/consistency.hpp"
 #include "eval/metrics.hpp"
 #include "eval/runner.hpp"
+#include "filter_family.hpp"
 #include "lie/imu_dynamics.hpp"
 #include "lie/sek3.hpp"
 #include "sim/simulator.hpp"
@@ -20,6 +21,7 @@
 using namespace legkit;
 using namespace legkit::invariant;
 using legkit::test::inputsOf;
+using legkit::test::normal3;
 using legkit::test::trotLog;
 using tsif::kDim;
 using tsif::Matrix15;
@@ -29,11 +31,6 @@ using tsif::Vector27;
 namespace {
 
 constexpr std::array<int, 5> kNav = {tsif::kTheta, tsif::kV, tsif::kP, tsif::kBg, tsif::kBa};
-
-Eigen::Vector3d normal3(std::mt19937& gen, double sigma) {
-  std::normal_distribution<double> n(0.0, sigma);
-  return {n(gen), n(gen), n(gen)};
-}
 
 State randomState(std::mt19937& gen) {
   State x;
@@ -406,19 +403,12 @@ TEST_CASE("TSIF: the information matrix stays symmetric positive definite", "[57
 }
 
 TEST_CASE("TSIF: bad input throws and leaves the state untouched", "[57.5][tsif]") {
-  const io::Log log = trotLog(1.5, 2, false);
-  const std::vector<StepInput> inputs = inputsOf(log);
   Tsif filter;
-  filter.reset(eval::initialState(log));
-  std::size_t k = 0;
-  for (; k < 1400; ++k) filter.step(inputs[k]);
-  StepInput good = inputs[k];
-  while (good.num_contacts < 2) good = inputs[++k];  // two feet down: room for each fault
-
+  const StepInput good = legkit::test::stepToTwoFeet(filter);
   const State before = filter.state();
   const tsif::Matrix27 Lambda_before = filter.information();
   const EstimateSample estimate_before = filter.estimate();
-  const auto untouched = [&] {
+  legkit::test::checkStepFaultsRefused(filter, good, [&] {
     const State& x = filter.state();
     CHECK(x.R.matrix() == before.R.matrix());
     CHECK(x.v == before.v);
@@ -428,37 +418,8 @@ TEST_CASE("TSIF: bad input throws and leaves the state untouched", "[57.5][tsif]
     CHECK(x.b_a == before.b_a);
     CHECK(filter.information() == Lambda_before);
     CHECK(filter.estimate().t == estimate_before.t);
-  };
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  struct Case {
-    const char* message;
-    std::function<void(StepInput&)> spoil;
-  };
-  const std::vector<Case> cases = {
-      {"gyro reading w_m is not finite", [&](StepInput& in) { in.imu.w_m.x() = nan; }},
-      {"accelerometer reading a_m is not finite",
-       [&](StepInput& in) { in.imu.a_m.z() = std::numeric_limits<double>::infinity(); }},
-      {"dt must be finite and non-negative", [](StepInput& in) { in.dt = -1e-3; }},
-      {"time t is not finite", [&](StepInput& in) { in.t = nan; }},
-      {"foot id 8 is out of range", [](StepInput& in) { in.contacts[1].foot = 8; }},
-      {"foot id -1 is out of range", [](StepInput& in) { in.contacts[0].foot = -1; }},
-      {"appears twice", [](StepInput& in) { in.contacts[1].foot = in.contacts[0].foot; }},
-      {"p_body is not finite", [&](StepInput& in) { in.contacts[1].p_body.y() = nan; }},
-      {"covariance is not finite", [&](StepInput& in) { in.contacts[0].cov(2, 2) = nan; }},
-      {"covariance is not symmetric", [](StepInput& in) { in.contacts[1].cov(0, 1) += 1e-4; }},
-      {"covariance is not positive definite",
-       [](StepInput& in) { in.contacts[0].cov = -in.contacts[0].cov; }},
-      {"num_contacts", [](StepInput& in) { in.num_contacts = 9; }},
-  };
-  for (const Case& c : cases) {
-    StepInput bad = good;
-    c.spoil(bad);
-    INFO(c.message);
-    CHECK_THROWS_WITH(filter.step(bad), Catch::Contains(c.message) && Catch::Contains("t = "));
-    untouched();
-  }
-  // The same input, unspoiled, is accepted afterwards.
-  CHECK_NOTHROW(filter.step(good));
+  });
+  legkit::test::checkFamilyParamsRefused<Tsif, TsifParams>();
 
   TsifParams params;
   params.foot_stance_density = 0.0;
