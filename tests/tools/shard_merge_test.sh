@@ -59,6 +59,53 @@ check_study() {  # NAME N ARGS...: the study NAME as N shards against its single
 check_study convergence 2 --runs 2 --duration 5.1
 check_study sweep 2 --runs 3 --duration 1
 
+# The physics studies (MuJoCo: the shortest runs that split), sharded over their scenarios (slip:
+# and, as the last item, its contact-source comparison: 1 + 2 items) and fault cases. Their tables name their
+# output folder: the single-machine run's folder is moved aside and the merge writes one of the
+# same name, so that the two standard outputs compare byte for byte.
+check_physics() {  # NAME N FILES ARGS...: the study NAME as N shards, FILES compared
+  local name=$1 n=$2 files=$3
+  shift 3
+  local run=("$legkit" study "$name" --no-plots "$@")
+  "${run[@]}" --out "$name" > "$name.txt" 2> /dev/null || fail "study $name failed"
+  mv "$name" "$name-whole"
+  parallel "${run[@]}" --shard "{}/$n" --out "$name-$n-{}" ::: $(seq "$n") > /dev/null 2>&1 ||
+    fail "parallel: a shard of study $name failed"
+  mapfile -t shards < <(seq "$n" -1 1 | sed "s/^/$name-$n-/")
+  "$legkit" merge "$name" "${shards[@]}" --no-plots > "$name-merged.txt" ||
+    fail "legkit merge of study $name failed"
+  same "$name.txt" "$name-merged.txt"
+  for f in $files; do same "$name-whole/$f" "$name/$f"; done
+}
+check_physics contact 2 "contact.csv contact-trace.csv" --duration 1 \
+  --scenarios physics-stand,physics-trot
+check_physics slip 2 "slip.csv slip-sources.csv slip-terrain.csv slip-trace.csv" --duration 1 \
+  --scenarios physics-ice,physics-trot --filters invariant-ekf
+# study faults prints its table and writes no files; its shards write theirs into --out.
+"$legkit" study faults > faults.txt || fail "study faults failed"
+parallel "$legkit" study faults --shard "{}/2" --out "faults-2-{}" ::: 1 2 > /dev/null 2>&1 ||
+  fail "parallel: a shard of study faults failed"
+"$legkit" merge faults-merged faults-2-2 faults-2-1 > faults-merged.txt ||
+  fail "legkit merge of study faults failed"
+same faults.txt faults-merged.txt
+# What cannot be split, or not that finely, is refused before anything is run or written.
+expect 1 "nothing to split" "$legkit" study fusion --shard 2/2 --quick --out fusion-bad
+expect 1 "only 2 scenarios" "$legkit" study contact --scenarios physics-stand,physics-trot \
+  --shard 3/3 --out contact-bad
+expect 1 "only 7 fault cases" "$legkit" study faults --shard 8/8 --out faults-bad
+expect 1 "--out" "$legkit" study faults --out faults-bad
+for bad in fusion-bad contact-bad faults-bad; do [[ -e $bad ]] && fail "a refused study wrote $bad"; done
+# Their shards, when they cannot be merged: exit 2 naming the folder, nothing written.
+cp -r contact-2-2 contact-cut
+head -n 5 contact-2-2/rows.csv > contact-cut/rows.csv
+expect 2 "contact-cut/rows.csv" "$legkit" merge pm contact-2-1 contact-cut
+expect 2 "kind" "$legkit" merge pm slip-2-1 contact-2-2
+expect 2 "shard 2/2 missing" "$legkit" merge pm slip-2-1
+cp -r faults-2-2 faults-other
+sed -i 's/"case": "FR force sensor/"case": "XX force sensor/' faults-other/shard.json
+expect 2 "faults-other/shard.json" "$legkit" merge pm faults-2-1 faults-other
+[[ -e pm ]] && fail "a refused merge of physics shards wrote its output folder"
+
 # study consistency as 2 and 3 shards (blocks of 2+2 and 1+1+2 runs); its shards are the ones the
 # refusals below are tried on.
 study=("$legkit" study consistency --runs 4 --duration 2 --no-plots --threads 1)

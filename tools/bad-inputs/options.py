@@ -224,6 +224,7 @@ def options():
         ("--out", dict(path=True, valid=NAMES, few=True)),
         ("--scenarios", {}),
         ("--filter", {}),
+        ("--shard", {}),
     ], contact)
     slip_study = physics_study + [("--scenarios", "physics-trot"), ("--filters", "eskf"),
                                   ("--contact", "truth")]
@@ -234,16 +235,21 @@ def options():
         ("--scenarios", {}),
         ("--contact", {}),
         ("--filters", {}),
+        ("--shard", {}),
     ], slip_study)
     cmd(["study", "faults"], [
         ("--seed", dict(number=True, valid={"0"}, long=True)),
         ("--filter", {}),
+        ("--shard", {}),
+        # A shard's folder: without --shard any --out is refused (the whole study writes none).
+        ("--out", dict(path=True, valid=NAMES, few=True, base=[("--shard", "1/7")])),
     ], [])
     fusion = [("--duration", "5"), ("--no-plots", None), out]
     cmd(["study", "fusion"], [
         ("--duration", dict(number=True)),
         ("--seed", dict(number=True, valid={"0"}, long=True)),
         ("--out", dict(path=True, valid=NAMES, long=True)),
+        ("--shard", {}),  # refused past 1/1: one run, nothing to split
     ], fusion)
     return o
 

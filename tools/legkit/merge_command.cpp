@@ -4,8 +4,10 @@
 #include <iostream>
 
 #include "consistency_report.hpp"
+#include "contact_report.hpp"
 #include "convergence_report.hpp"
 #include "eval_report.hpp"
+#include "faults_report.hpp"
 #include "output.hpp"
 #include "shard.hpp"
 #include "validators.hpp"
@@ -17,6 +19,23 @@ namespace fs = std::filesystem;
 
 int items(const ShardInput& last) {
   return last.block.end;
+}
+
+// The shards end at the last of `total` items, else InputError.
+void requireAll(const std::vector<ShardInput>& shards, int total, const std::string& what) {
+  if (items(shards.back()) != total) {
+    throw InputError(shards.back().dir + ": the shards end at " + what + " " +
+                     std::to_string(items(shards.back())) + " of " + std::to_string(total) +
+                     "; nothing merged");
+  }
+}
+
+// The scenarios of shard s's block: options["scenarios"][begin, end) (to end at most `limit`).
+std::vector<std::string> blockNames(const nlohmann::json& options, const ShardInput& s, int limit) {
+  std::vector<std::string> names;
+  const auto all = options.at("scenarios").get<std::vector<std::string>>();
+  for (int i = s.block.begin; i < std::min(s.block.end, limit); ++i) names.push_back(all.at(i));
+  return names;
 }
 
 }  // namespace
@@ -44,6 +63,9 @@ int MergeCommand::run(std::ostream& out) const {
   if (kind == "study convergence") return study(out, shards, "convergence");
   if (kind == "study sweep") return study(out, shards, "sweep");
   if (kind == "eval") return eval(out, shards);
+  if (kind == "study contact") return contact(out, shards);
+  if (kind == "study slip") return slip(out, shards);
+  if (kind == "study faults") return faults(out, shards);
   throw InputError(shards.front().dir + ": shards of '" + kind +
                    "', which this legkit cannot merge");
 }
@@ -111,6 +133,74 @@ int MergeCommand::eval(std::ostream& out, const std::vector<ShardInput>& shards)
   }
   makeOutputFolder(out_);
   return reportEval(out, std::cerr, out_, evalHeading(options), rows);
+}
+
+int MergeCommand::contact(std::ostream& out, const std::vector<ShardInput>& shards) const {
+  const nlohmann::json& options = shards.front().manifest.at("options");
+  const int total = static_cast<int>(options.at("scenarios").size());
+  requireAll(shards, total, "scenario");
+  const std::string where = shards.front().dir + "/" + kShardManifest;
+  const ContactHeading heading{
+      options.at("seed").get<unsigned>(), options.at("duration").get<double>(),
+      options.at("filter").get<std::string>(),
+      parseExact(options.at("f_high").get<std::string>(), where + ": f_high"),
+      parseExact(options.at("f_low").get<std::string>(), where + ": f_low")};
+  ContactRows all;
+  for (const ShardInput& s : shards) {
+    appendContactRows(
+        all, readContactRows(fs::path(s.dir) / kStudyRows, blockNames(options, s, total)), s.dir);
+  }
+  makeOutputFolder(out_);
+  reportContact(out, out_, heading, all);
+  return plots_ ? plotContact(out, out_) : kExitOk;
+}
+
+int MergeCommand::slip(std::ostream& out, const std::vector<ShardInput>& shards) const {
+  const nlohmann::json& options = shards.front().manifest.at("options");
+  const int scenarios = static_cast<int>(options.at("scenarios").size());
+  requireAll(shards, scenarios + 1, "item");
+  SlipRows all;
+  for (const ShardInput& s : shards) {
+    appendSlipRows(all,
+                   readSlipRows(fs::path(s.dir) / kStudyRows, blockNames(options, s, scenarios),
+                                s.block.end == scenarios + 1),
+                   s.dir);
+  }
+  makeOutputFolder(out_);
+  reportSlip(out, out_,
+             {options.at("seed").get<unsigned>(), options.at("duration").get<double>(),
+              options.at("contact").get<std::string>()},
+             all);
+  return plots_ ? plotSlip(out, out_) : kExitOk;
+}
+
+int MergeCommand::faults(std::ostream& out, const std::vector<ShardInput>& shards) const {
+  const nlohmann::json& options = shards.front().manifest.at("options");
+  const auto cases = options.at("cases").get<std::vector<std::string>>();
+  requireAll(shards, static_cast<int>(cases.size()), "case");
+  std::vector<FaultCaseResult> rows;
+  for (const ShardInput& s : shards) {
+    const std::string where = s.dir + "/" + kShardManifest;
+    const std::vector<FaultCaseResult> part = faultRowsFromJson(
+        s.manifest.contains("rows") ? s.manifest.at("rows") : nlohmann::json(), where);
+    if (static_cast<int>(part.size()) != s.block.end - s.block.begin) {
+      throw InputError(where + ": " + std::to_string(part.size()) + " cases, its block has " +
+                       std::to_string(s.block.end - s.block.begin) + "; nothing merged");
+    }
+    for (std::size_t k = 0; k < part.size(); ++k) {
+      if (part[k].name != cases.at(s.block.begin + k)) {
+        throw InputError(where + ": case '" + part[k].name + "' where '" +
+                         cases.at(s.block.begin + k) + "' was expected; nothing merged");
+      }
+    }
+    rows.insert(rows.end(), part.begin(), part.end());
+  }
+  makeOutputFolder(out_);  // the study writes no files: the merged folder stays empty
+  reportFaults(out,
+               {options.at("filter").get<std::string>(), options.at("duration").get<double>(),
+                options.at("seed").get<unsigned>()},
+               rows);
+  return kExitOk;
 }
 
 }  // namespace legkit::tools

@@ -1,8 +1,8 @@
 // `legkit merge OUT SHARD_DIR...`: the shards of one sharded run (`legkit study consistency|
-// convergence|sweep --shard i/N`, `legkit eval --shard i/N`) combined into exactly what the
-// single-machine run prints and writes, from their per-item rows through the same code (shard.hpp).
-// Every shard must be there once and be of the same run (kind, options, seed, version): else an
-// error naming the folders, exit 2, and nothing is written.
+// convergence|sweep|contact|slip|faults --shard i/N`, `legkit eval --shard i/N`) combined into
+// exactly what the single-machine run prints and writes, from their per-item rows through the same
+// code (shard.hpp). Every shard must be there once and be of the same run (kind, options, seed,
+// version): else an error naming the folders, exit 2, and nothing is written.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -29,6 +29,10 @@ class MergeCommand {
   int study(std::ostream& out, const std::vector<ShardInput>& shards,
             const std::string& name) const;
   int eval(std::ostream& out, const std::vector<ShardInput>& shards) const;
+  // `study contact`, `study slip` (contact_report.hpp) and `study faults` (faults_report.hpp).
+  int contact(std::ostream& out, const std::vector<ShardInput>& shards) const;
+  int slip(std::ostream& out, const std::vector<ShardInput>& shards) const;
+  int faults(std::ostream& out, const std::vector<ShardInput>& shards) const;
 
   CLI::App* command_;
   std::string out_;

@@ -14,7 +14,9 @@
 //                              pose updates and the fixed-lag smoother (57.8), study_fusion.hpp
 // consistency, convergence and sweep take --shard i/N: a block of the runs, its per-run rows
 // written for `legkit merge` (shard.hpp), which makes the study's table and files from them with
-// the same code (consistency_report.hpp, convergence_report.hpp).
+// the same code (consistency_report.hpp, convergence_report.hpp); contact and slip a block of
+// their scenarios (contact_report.hpp), faults of its fault cases (faults_report.hpp). fusion is
+// one run and refuses a --shard past 1/1 (study_fusion.cpp says why).
 #pragma once
 
 #include <CLI/CLI.hpp>

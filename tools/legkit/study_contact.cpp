@@ -5,14 +5,17 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 #include <vector>
 
+#include "contact_report.hpp"
 #include "estimation/contact/detectors.hpp"
 #include "estimation/contact/foot_force.hpp"
 #include "estimation/contact/schmitt_trigger.hpp"
@@ -29,6 +32,7 @@
 #include "model/quadruped_inertia.hpp"
 #include "output.hpp"
 #include "scenarios.hpp"
+#include "shard.hpp"
 #include "sim/physics_simulator.hpp"
 #include "study_filters.hpp"
 #include "validators.hpp"
@@ -40,21 +44,7 @@ namespace fs = std::filesystem;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kFeet = 4;
-constexpr const char* kLegs[kFeet] = {"FL", "FR", "RL", "RR"};
-constexpr int kTraceFoot = 1;  // FR: the foot over the ice patch, and the figures' foot
-// A true slip (57.7): the contact point slides faster than kSlipSpeed for at least kSlipHold.
-constexpr double kSlipSpeed = 0.1;  // [m/s]
-constexpr double kSlipHold = 0.02;  // [s]
-// A detected slip onset belongs to a true slip within this margin of it [s].
-constexpr double kSlipMargin = 0.05;
-// A detected onset this close to a sample of a slide too short to be a true slip is not false.
-constexpr double kShortSlide = 0.02;  // [s]
-
-std::ostringstream newCsv() {
-  std::ostringstream csv;
-  csv << std::setprecision(8);
-  return csv;
-}
+constexpr int kTraceFoot = kContactTraceFoot;  // FR: the foot over the ice patch, the figures'
 
 // The scenario for a study: `duration` seconds, lengthened to end 1 s after a push it would cut.
 sim::PhysicsOptions studyOptions(const std::string& scenario, double duration, unsigned seed) {
@@ -189,10 +179,31 @@ sim::PhysicsResult simulate(const sim::PhysicsOptions& o) {
   return r;
 }
 
-std::string scenarioLabel(const sim::PhysicsOptions& o, const sim::PhysicsResult& r) {
-  std::string label = o.scenario.name;
-  if (r.status.fell) label += " (fell at " + formatFixed(r.status.time, 2) + " s)";
-  return label;
+ScenarioRun scenarioRun(const sim::PhysicsOptions& o, const sim::PhysicsResult& r) {
+  return {o.scenario.name, r.status.fell, r.status.fell ? r.status.time : 0.0};
+}
+
+// --out, or legkit-out/study-<name>, with -shard-<i>-of-<N> for a shard.
+fs::path outputFolder(const std::string& given, const std::string& study, const Shard& shard) {
+  if (!given.empty()) return given;
+  return "legkit-out/study-" + study +
+         (shard.whole()
+              ? std::string()
+              : "-shard-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count));
+}
+
+// A shard's output: its rows (kStudyRows) and its manifest, and what it holds on `out`.
+int writeShard(std::ostream& out, const std::string& study, const fs::path& dir,
+               const nlohmann::json& options, const Shard& shard, const Block& block, int items,
+               const std::string& what, const std::function<void(std::ostream&)>& rows) {
+  OutputFolder folder(dir, kShardManifest);
+  folder.write(kStudyRows, rows);
+  folder.writeManifest(shardManifest("study " + study, options, shard, block));
+  out << "study " << study << ", shard " << shard.text() << ": items " << block.begin << ".."
+      << block.end - 1 << " of " << items << " (" << what << ") in " << dir.string()
+      << "/; `legkit merge OUT SHARD_DIR...` makes the study's tables and files from all "
+      << shard.count << " shards\n";
+  return kExitOk;
 }
 
 Progress stderrProgress() {
@@ -231,18 +242,6 @@ double frictionUnderFoot(const sim::Terrain& terrain, const io::LogRow& r, int f
   }
   return mu;
 }
-
-struct SlipScores {
-  int slips = 0;             // true slips, all feet
-  int detected = 0;          // of them, detected within their margin
-  double delay_mean = kNaN;  // first detection - true onset [ms]
-  double delay_p95 = kNaN;   // nearest rank [ms]
-  // Detected onsets outside every true slip's margin, per minute: at a short slide (the foot's
-  // slip speed above kSlipSpeed within kShortSlide of the onset, for less than kSlipHold), or
-  // false (no such sample).
-  double short_slides_per_min = 0.0;
-  double false_alarms_per_min = 0.0;
-};
 
 // The slip detector's flags against the true slips (kSlipSpeed for kSlipHold), per foot.
 SlipScores scoreSlips(const io::Log& log, const PipelineRun& run) {
@@ -311,8 +310,14 @@ StudyContact::StudyContact(CLI::App& study) {
                   "Simulated time per scenario [s], 1..3600 (runs with a push end 1 s after it "
                   "at least); default: the study's own")
         ->check(finiteRange(1.0, kMaxSimulatedSeconds));
-    c->add_option("--out", out_dir_, "Output folder (default legkit-out/study-<name>)")
+    c->add_option("--out", out_dir_,
+                  "Output folder (default legkit-out/study-<name>, -shard-<i>-of-<N> for a shard)")
         ->check(nonEmptyName());
+    c->add_option("--shard", shard_,
+                  "Run shard i of N (a block of the scenarios) into --out; `legkit merge` "
+                  "combines the N shards into exactly the single-machine study")
+        ->check(shardSpec())
+        ->capture_default_str();
     c->add_flag("!--no-plots", plots_, "Do not draw the PNG figures");
     // Each name checked by subset() (run): '' would have meant every scenario.
     c->add_option("--scenarios", scenarios_,
@@ -367,65 +372,56 @@ int StudyContact::run(std::ostream& out) const {
 }
 
 // Every detector (contact::detectorNames()) on every physics scenario, each feeding `filter_` on
-// its own contacts through the contact pipeline, scored against gt_feet[].contact.
+// its own contacts through the contact pipeline, scored against gt_feet[].contact. Sharded over
+// the scenarios (contact_report.hpp).
 int StudyContact::contact(std::ostream& out) const {
+  const Shard shard = parseShard(shard_);
   const double duration = duration_ > 0 ? duration_ : 10.0;
   // The options first: an unknown scenario once waited for the training below (8 s).
   const std::vector<std::string> scenarios =
       subset(sim::physicsScenarioNames(), scenarios_, "--scenarios");
-  const fs::path dir = out_dir_.empty() ? fs::path("legkit-out/study-contact") : fs::path(out_dir_);
-  makeOutputFolder(dir);
+  const Block block = shardBlock(shard, static_cast<int>(scenarios.size()), "scenarios");
   try {
     makeEstimator(filter_);
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("--filter: ") + e.what());
   }
+  const fs::path dir = outputFolder(out_dir_, "contact", shard);
+  makeOutputFolder(dir);
   Progress progress = stderrProgress();
   progress.run("contact, training the logistic model", 0, 1);
   // Trained on its own runs (seeds seed + 1000.., eval/contact_training.hpp), not these.
   const contact::LogisticModel logistic = eval::trainContactModel(seed_);
-  const std::vector<std::string> detectors = contact::detectorNames();
-
-  std::ostringstream csv = newCsv(), trace = newCsv();
-  csv << "# seed " << seed_ << " duration " << duration << " filter " << filter_ << '\n'
-      << "scenario,detector,fell,precision,recall,f1,touchdown_delay_mean_ms,"
-         "touchdown_delay_p95_ms,liftoff_delay_mean_ms,liftoff_delay_p95_ms,chatter_per_min,"
-         "touchdowns,liftoffs,missed_touchdowns,missed_liftoffs,spurious_toggles,"
-         "undecided_percent,position_rmse,velocity_rmse\n";
-  std::vector<std::vector<std::string>> table = {
-      {"scenario", "detector", "precision", "recall", "F1", "TD delay", "TD p95", "LO delay",
-       "LO p95", "chatter", "undecided", "pos RMSE"},
-      {"", "", "", "", "", "[ms]", "[ms]", "[ms]", "[ms]", "[1/min]", "[%]", "[m]"}};
-  // Per detector over the scenarios: sums of F1, touchdown delay, lift-off delay, chatter.
-  std::map<std::string, std::array<double, 4>> sums;
-  std::map<std::string, std::array<int, 4>> counts;
+  ContactRows rows;
+  rows.detectors = contact::detectorNames();
+  const std::vector<std::string>& detectors = rows.detectors;
 
   const contact::SchmittParams schmitt = contact::DetectorContext{}.schmitt;  // the sensor's
+  const ContactHeading heading{seed_, duration, filter_, schmitt.f_high, schmitt.f_low};
   const sim::PhysicsOptions trot = studyOptions("physics-trot", duration, seed_);
   const double trace_to = std::min(5.0, trot.duration);
   const double trace_from = std::max(0.0, trace_to - 2.0);
-  trace << "# physics-trot foot " << kLegs[kTraceFoot] << " f_high " << schmitt.f_high << " f_low "
-        << schmitt.f_low << '\n';
-  std::vector<std::vector<double>> trace_columns;  // per detector: contact, force per row
-  std::vector<double> trace_t, trace_force, trace_fn, trace_truth;
 
   int done = 0;
-  const int total = static_cast<int>(scenarios.size() * detectors.size());
-  for (const std::string& name : scenarios) {
+  const int total = (block.end - block.begin) * static_cast<int>(detectors.size());
+  for (int item = block.begin; item < block.end; ++item) {
+    const std::string& name = scenarios[item];
     const sim::PhysicsOptions o = studyOptions(name, duration, seed_);
     const sim::PhysicsResult sim = simulate(o);
     const io::Log& log = sim.log;
     const std::vector<double> t = times(log);
     const std::vector<eval::FootFlags> truth = trueContacts(log);
     const contact::DetectorContext context = detectorContext(o.scenario, logistic);
-    const bool traced = name == "physics-trot";
-    if (traced) {
+    ContactScenario& sc = rows.scenarios.emplace_back();
+    sc.run = scenarioRun(o, sim);
+    sc.traced = name == "physics-trot";
+    if (sc.traced) {
       for (const io::LogRow& r : log.rows) {
         if (r.t < trace_from || r.t > trace_to) continue;
-        trace_t.push_back(r.t);
-        trace_force.push_back(r.force[kTraceFoot]);
-        trace_fn.push_back(r.gt_feet[kTraceFoot].normal_force);
-        trace_truth.push_back(r.gt_feet[kTraceFoot].contact);
+        sc.trace_t.push_back(r.t);
+        sc.trace_force.push_back(r.force[kTraceFoot]);
+        sc.trace_fn.push_back(r.gt_feet[kTraceFoot].normal_force);
+        sc.trace_truth.push_back(r.gt_feet[kTraceFoot].contact);
       }
     }
     for (const std::string& detector : detectors) {
@@ -433,90 +429,49 @@ int StudyContact::contact(std::ostream& out) const {
       const std::unique_ptr<ContactPipeline> pipeline = makePipeline(log, o, detector, context);
       const std::unique_ptr<Estimator> filter = makeEstimator(filter_);
       const PipelineRun run = runPipeline(log, *filter, *pipeline, false);
-      const eval::ContactScores s = eval::scoreContacts(t, run.detected, truth, kFeet);
       const eval::Metrics m = eval::compare(log, run.trajectory);
-      const double undecided = 100.0 * run.undecided / (kFeet * static_cast<double>(t.size()));
-      csv << name << ',' << detector << ',' << sim.status.fell << ',' << s.precision << ','
-          << s.recall << ',' << s.f1 << ',' << s.touchdown_delay_mean << ','
-          << s.touchdown_delay_p95 << ',' << s.liftoff_delay_mean << ',' << s.liftoff_delay_p95
-          << ',' << s.chatter_per_min << ',' << s.touchdowns << ',' << s.liftoffs << ','
-          << s.missed_touchdowns << ',' << s.missed_liftoffs << ',' << s.spurious_toggles << ','
-          << undecided << ',' << m.position_rmse << ',' << m.velocity_rmse << '\n';
-      table.push_back({detector == detectors.front() ? scenarioLabel(o, sim) : "", detector,
-                       formatFixed(s.precision, 3), formatFixed(s.recall, 3), formatFixed(s.f1, 3),
-                       formatFixed(s.touchdown_delay_mean, 1),
-                       formatFixed(s.touchdown_delay_p95, 1), formatFixed(s.liftoff_delay_mean, 1),
-                       formatFixed(s.liftoff_delay_p95, 1), formatFixed(s.chatter_per_min, 1),
-                       formatFixed(undecided, 1), formatFixed(m.position_rmse, 3)});
-      const std::array<double, 4> values = {s.f1, s.touchdown_delay_mean, s.liftoff_delay_mean,
-                                            s.chatter_per_min};
-      for (int j = 0; j < 4; ++j) {
-        if (std::isnan(values[j])) continue;
-        sums[detector][j] += values[j];
-        ++counts[detector][j];
-      }
-      if (traced) {
+      sc.rows.push_back({eval::scoreContacts(t, run.detected, truth, kFeet),
+                         100.0 * run.undecided / (kFeet * static_cast<double>(t.size())),
+                         m.position_rmse, m.velocity_rmse});
+      if (sc.traced) {
         std::vector<double> contact_column;
         for (std::size_t k = 0; k < log.rows.size(); ++k) {
           if (log.rows[k].t < trace_from || log.rows[k].t > trace_to) continue;
           contact_column.push_back(run.detected[k][kTraceFoot]);
         }
-        trace_columns.push_back(contact_column);
+        sc.trace_detected.push_back(contact_column);
       }
     }
   }
   progress.clear();
-
-  trace << "t,force,gt_fn,gt_contact";
-  for (const std::string& d : detectors) trace << ',' << d;
-  trace << '\n';
-  for (std::size_t k = 0; k < trace_t.size(); ++k) {
-    trace << trace_t[k] << ',' << trace_force[k] << ',' << trace_fn[k] << ',' << trace_truth[k];
-    for (const std::vector<double>& c : trace_columns) trace << ',' << c[k];
-    trace << '\n';
+  if (!shard.whole()) {
+    const nlohmann::json options = {{"seed", seed_},
+                                    {"duration", duration},
+                                    {"filter", filter_},
+                                    {"scenarios", scenarios},
+                                    {"f_high", exact(heading.f_high)},
+                                    {"f_low", exact(heading.f_low)}};
+    std::string what;
+    for (int i = block.begin; i < block.end; ++i) what += (what.empty() ? "" : ", ") + scenarios[i];
+    return writeShard(out, "contact", dir, options, shard, block,
+                      static_cast<int>(scenarios.size()), what,
+                      [&](std::ostream& f) { writeContactRows(f, rows); });
   }
-
-  out << "Contact detectors against the physics' true contact (" << duration
-      << " s per scenario, seed " << seed_ << "; each detector sees the estimate of " << filter_
-      << " running on its own contacts; TD touchdown, LO lift-off: delay of the detected toggle "
-         "matched within +-100 ms, mean and 95th percentile; chatter: detected toggles matching "
-         "no true one; undecided: samples where the detector could not answer)\n\n";
-  printTable(out, table);
-  out << "\nPer detector, mean over the scenarios:\n\n";
-  std::vector<std::vector<std::string>> summary = {
-      {"detector", "F1", "TD delay [ms]", "LO delay [ms]", "chatter [1/min]"}};
-  for (const std::string& d : detectors) {
-    summary.push_back({d});
-    for (int j = 0; j < 4; ++j) {
-      summary.back().push_back(
-          formatFixed(counts[d][j] ? sums[d][j] / counts[d][j] : kNaN, j == 0 ? 3 : 1));
-    }
-  }
-  printTable(out, summary);
-  writeAtomically(dir / "contact.csv", [&](std::ostream& f) { f << csv.str(); });
-  writeAtomically(dir / "contact-trace.csv", [&](std::ostream& f) { f << trace.str(); });
-  out << "tables: " << (dir / "contact.csv").string() << ", "
-      << (dir / "contact-trace.csv").string() << '\n';
-  if (plots_) {
-    const std::string failed = plot("57.6-contact.py", {dir.string()});
-    out << (failed.empty() ? "figures: " + (dir / "57.6-contact-trace.png").string() + ", " +
-                                 (dir / "57.6-contact-f1-delay.png").string()
-                           : failed)
-        << '\n';
-    if (plotFailed(failed)) return kExitInput;
-  }
-  return 0;
+  reportContact(out, dir, heading, rows);
+  return plots_ ? plotContact(out, dir) : kExitOk;
 }
 
 // The slip detector and its reactions (estimation/slip/slip_guard.hpp) on the ice scenarios and
 // the dry trot, every filter on contacts from `contact_source_`; then every filter on the dry
-// trot with true contacts and with detected ones.
+// trot with true contacts and with detected ones. Sharded over the scenarios and, as the last
+// item, that comparison (contact_report.hpp).
 int StudyContact::slip(std::ostream& out) const {
+  const Shard shard = parseShard(shard_);
   const double duration = duration_ > 0 ? duration_ : 10.0;
   const std::vector<std::string> scenarios =
       subset({"physics-ice", "physics-ice-push", "physics-ice-aware", "physics-trot"}, scenarios_,
              "--scenarios");
-  const fs::path dir = out_dir_.empty() ? fs::path("legkit-out/study-slip") : fs::path(out_dir_);
+  const int items = static_cast<int>(scenarios.size()) + 1;  // and the sources' comparison
   const std::vector<slip::SlipReaction> reactions = {
       slip::SlipReaction::kNone, slip::SlipReaction::kInflate, slip::SlipReaction::kDrop,
       slip::SlipReaction::kImuOnly};
@@ -526,38 +481,35 @@ int StudyContact::slip(std::ostream& out) const {
       std::find(detectors.begin(), detectors.end(), contact_source_) == detectors.end()) {
     throw UsageError("--contact: neither truth nor a detector: " + contact_source_);
   }
+  const Block block = shardBlock(shard, items, "items (the scenarios and the contact sources)");
+  const fs::path dir = outputFolder(out_dir_, "slip", shard);
   makeOutputFolder(dir);  // after the options' checks: a bad one leaves no folder
   Progress progress = stderrProgress();
   progress.run("slip, training the logistic model", 0, 1);
   const contact::LogisticModel logistic = eval::trainContactModel(seed_);
 
-  std::ostringstream csv = newCsv(), trace = newCsv();
-  csv << "# seed " << seed_ << " duration " << duration << " contact " << contact_source_ << '\n'
-      << "scenario,filter,reaction,position_rmse,velocity_rmse,slips,detected,delay_mean_ms,"
-         "delay_p95_ms,short_slides_per_min,false_alarms_per_min\n";
-  std::vector<std::vector<std::string>> detection = {
-      {"scenario", "filter", "true slips", "detected", "delay [ms]", "p95 [ms]",
-       "at short slides [1/min]", "false alarms [1/min]"}};
-  std::vector<std::vector<std::string>> accuracy = {
-      {"scenario", "filter", "pos RMSE [m]:", "", "", "", "vel RMSE [m/s]:", "", "", ""},
-      {"", "", "none", "inflate", "drop", "imu-only", "none", "inflate", "drop", "imu-only"}};
-  std::ostringstream terrain_csv = newCsv();
-  terrain_csv << "# seed " << seed_ << " duration " << duration << " contact " << contact_source_
-              << " filter invariant-ekf\n"
-              << "scenario,true_mu,class,mu_hat,mu_lower_bound,onsets,slip_rate,slip_fraction\n";
-  std::vector<std::vector<std::string>> terrain_table = {{"scenario", "true mu", "class", "mu_hat",
-                                                          "mu lower bound", "onsets",
-                                                          "slip rate [1/s]", "slipping [%]"}};
+  SlipRows rows;
+  rows.filters = filters;
+  for (const slip::SlipReaction reaction : reactions) {
+    rows.reactions.push_back(slip::slipReactionName(reaction));
+  }
   int done = 0;
-  const int total = static_cast<int>(scenarios.size() * filters.size() * reactions.size());
-  for (const std::string& name : scenarios) {
+  const int last = std::min(block.end, items - 1);  // the block's scenarios end here
+  const int total =
+      std::max(0, last - block.begin) * static_cast<int>(filters.size() * reactions.size());
+  for (int item = block.begin; item < last; ++item) {
+    const std::string& name = scenarios[item];
     const sim::PhysicsOptions o = studyOptions(name, duration, seed_);
     const sim::PhysicsResult sim = simulate(o);
     const io::Log& log = sim.log;
     const contact::DetectorContext context = detectorContext(o.scenario, logistic);
+    SlipScenario& sc = rows.scenarios.emplace_back();
+    sc.run = scenarioRun(o, sim);
+    sc.friction.push_back(o.scenario.terrain.friction);
+    for (const sim::FrictionPatch& patch : o.scenario.terrain.patches) {
+      sc.friction.push_back(patch.friction);
+    }
     for (const std::string& f : filters) {
-      std::vector<std::string> row = {f == filters.front() ? scenarioLabel(o, sim) : "", f};
-      std::vector<std::string> velocity;
       for (const slip::SlipReaction reaction : reactions) {
         progress.run("slip, " + name + ", " + f, done++, total);
         const std::unique_ptr<ContactPipeline> pipeline =
@@ -570,104 +522,64 @@ int StudyContact::slip(std::ostream& out) const {
         const eval::Metrics m = eval::compare(log, run.trajectory);
         if (watched) {
           const slip::TerrainClassifier& c = terrain.classifier;
-          std::string mu = formatFixed(o.scenario.terrain.friction, 2);
-          for (const sim::FrictionPatch& patch : o.scenario.terrain.patches) {
-            mu += " (" + formatFixed(patch.friction, 2) + " patch)";
-          }
-          terrain_csv << name << ',' << mu << ',' << slip::terrainClassName(c.terrain()) << ','
-                      << c.frictionEstimate() << ',' << c.frictionLowerBound() << ',' << c.onsets()
-                      << ',' << c.slipRate() << ',' << c.slipFraction() << '\n';
-          terrain_table.push_back({scenarioLabel(o, sim), mu, slip::terrainClassName(c.terrain()),
-                                   formatFixed(c.frictionEstimate(), 3),
-                                   formatFixed(c.frictionLowerBound(), 3),
-                                   std::to_string(c.onsets()), formatFixed(c.slipRate(), 2),
-                                   formatFixed(100.0 * c.slipFraction(), 1)});
+          sc.terrain = SlipTerrain{slip::terrainClassName(c.terrain()),
+                                   c.frictionEstimate(),
+                                   c.frictionLowerBound(),
+                                   c.onsets(),
+                                   c.slipRate(),
+                                   c.slipFraction()};
         }
-        const SlipScores s = scoreSlips(log, run);
-        csv << name << ',' << f << ',' << slip::slipReactionName(reaction) << ',' << m.position_rmse
-            << ',' << m.velocity_rmse << ',' << s.slips << ',' << s.detected << ',' << s.delay_mean
-            << ',' << s.delay_p95 << ',' << s.short_slides_per_min << ',' << s.false_alarms_per_min
-            << '\n';
-        row.push_back(formatFixed(m.position_rmse, 3));
-        velocity.push_back(formatFixed(m.velocity_rmse, 3));
-        if (reaction != slip::SlipReaction::kNone) continue;
-        // Detection is scored without a reaction: what the detector sees of an untouched filter.
-        detection.push_back(
-            {f == filters.front() ? scenarioLabel(o, sim) : "", f, std::to_string(s.slips),
-             std::to_string(s.detected), formatFixed(s.delay_mean, 1), formatFixed(s.delay_p95, 1),
-             formatFixed(s.short_slides_per_min, 1), formatFixed(s.false_alarms_per_min, 1)});
-        if (name == "physics-ice" && f == "invariant-ekf") {
-          trace << "# physics-ice foot " << kLegs[kTraceFoot] << " filter " << f << " threshold "
-                << run.threshold << '\n'
-                << "t,mu,slip_speed,d2,slipping\n";
+        sc.runs.push_back({f, slip::slipReactionName(reaction), m.position_rmse, m.velocity_rmse,
+                           scoreSlips(log, run)});
+        if (watched && name == "physics-ice") {
+          sc.traced = true;
+          sc.threshold = run.threshold;
           for (std::size_t k = 0; k < log.rows.size(); ++k) {
             const io::LogRow& r = log.rows[k];
-            trace << r.t << ',' << frictionUnderFoot(o.scenario.terrain, r, kTraceFoot) << ','
-                  << r.gt_feet[kTraceFoot].slip_speed << ',' << run.d2[k][kTraceFoot] << ','
-                  << run.slipping[k][kTraceFoot] << '\n';
+            sc.trace.push_back({r.t, frictionUnderFoot(o.scenario.terrain, r, kTraceFoot),
+                                r.gt_feet[kTraceFoot].slip_speed, run.d2[k][kTraceFoot],
+                                run.slipping[k][kTraceFoot]});
           }
         }
       }
-      row.insert(row.end(), velocity.begin(), velocity.end());
-      accuracy.push_back(row);
     }
   }
 
   // Every filter on the dry trot, true contacts against detected ones (no slip reaction).
-  const std::vector<std::string> sources = {"truth", "schmitt", "probabilistic", "fallback"};
-  const sim::PhysicsOptions o = studyOptions("physics-trot", duration, seed_);
-  const sim::PhysicsResult sim = simulate(o);
-  const contact::DetectorContext context = detectorContext(o.scenario, logistic);
-  std::vector<std::vector<std::string>> sources_table = {{"filter"}, {""}};
-  for (const std::string& s : sources) {
-    sources_table[0].push_back(s);
-    sources_table[1].push_back("pos [m], vel [m/s]");
-  }
-  std::ostringstream sources_csv = newCsv();
-  sources_csv << "# physics-trot seed " << seed_ << " duration " << o.duration << '\n'
-              << "source,filter,position_rmse,velocity_rmse\n";
-  for (const std::string& f : filters) {
-    sources_table.push_back({f});
-    for (const std::string& source : sources) {
-      const std::unique_ptr<ContactPipeline> pipeline = makePipeline(sim.log, o, source, context);
-      const std::unique_ptr<Estimator> filter = makeEstimator(f);
-      const PipelineRun run = runPipeline(sim.log, *filter, *pipeline, false);
-      const eval::Metrics m = eval::compare(sim.log, run.trajectory);
-      sources_csv << source << ',' << f << ',' << m.position_rmse << ',' << m.velocity_rmse << '\n';
-      sources_table.back().push_back(formatFixed(m.position_rmse, 3) + ", " +
-                                     formatFixed(m.velocity_rmse, 3));
+  if (block.end == items) {
+    SlipSources& sources = rows.sources.emplace();
+    sources.sources = {"truth", "schmitt", "probabilistic", "fallback"};
+    progress.run("slip, physics-trot, contact sources", 0, 1);
+    const sim::PhysicsOptions o = studyOptions("physics-trot", duration, seed_);
+    const sim::PhysicsResult sim = simulate(o);
+    const contact::DetectorContext context = detectorContext(o.scenario, logistic);
+    sources.duration = o.duration;
+    for (const std::string& f : filters) {
+      sources.rmse.emplace_back();
+      for (const std::string& source : sources.sources) {
+        const std::unique_ptr<ContactPipeline> pipeline = makePipeline(sim.log, o, source, context);
+        const std::unique_ptr<Estimator> filter = makeEstimator(f);
+        const PipelineRun run = runPipeline(sim.log, *filter, *pipeline, false);
+        const eval::Metrics m = eval::compare(sim.log, run.trajectory);
+        sources.rmse.back().emplace_back(m.position_rmse, m.velocity_rmse);
+      }
     }
   }
   progress.clear();
-
-  out << "Slip detection (" << duration << " s per scenario, seed " << seed_ << ", contacts from "
-      << contact_source_ << "; a true slip: the contact point slides faster than " << kSlipSpeed
-      << " m/s for " << 1e3 * kSlipHold << " ms or more; delay: first detection within "
-      << 1e3 * kSlipMargin << " ms of it; other detected onsets are at a short slide when the "
-      << "foot slid faster than " << kSlipSpeed << " m/s within " << 1e3 * kShortSlide
-      << " ms of it, else false alarms; scored with the reaction 'none')\n\n";
-  printTable(out, detection);
-  out << "\nEvery filter with each slip reaction:\n\n";
-  printTable(out, accuracy);
-  out << "\nTerrain classes at the end of each run (invariant-ekf, reaction none; forces from the "
-         "joint torques: a ratio counts 30 ms into a loaded stance, a slip onset once its slip has "
-         "held 5 ms; slip rate per second and share of stance foot-time slipping):\n\n";
-  printTable(out, terrain_table);
-  out << "\nEvery filter on physics-trot, true against detected contacts (no slip reaction):\n\n";
-  printTable(out, sources_table);
-  writeAtomically(dir / "slip.csv", [&](std::ostream& f) { f << csv.str(); });
-  writeAtomically(dir / "slip-sources.csv", [&](std::ostream& f) { f << sources_csv.str(); });
-  writeAtomically(dir / "slip-terrain.csv", [&](std::ostream& f) { f << terrain_csv.str(); });
-  writeAtomically(dir / "slip-trace.csv", [&](std::ostream& f) { f << trace.str(); });
-  out << "tables: " << (dir / "slip.csv").string() << ", " << (dir / "slip-sources.csv").string()
-      << ", " << (dir / "slip-terrain.csv").string() << ", " << (dir / "slip-trace.csv").string()
-      << '\n';
-  if (plots_) {
-    const std::string failed = plot("57.7-slip.py", {dir.string()});
-    out << (failed.empty() ? "figure: " + (dir / "57.7-slip.png").string() : failed) << '\n';
-    if (plotFailed(failed)) return kExitInput;
+  if (!shard.whole()) {
+    const nlohmann::json options = {{"seed", seed_},
+                                    {"duration", duration},
+                                    {"contact", contact_source_},
+                                    {"scenarios", scenarios},
+                                    {"filters", filters}};
+    std::string what;
+    for (int i = block.begin; i < last; ++i) what += (what.empty() ? "" : ", ") + scenarios[i];
+    if (rows.sources) what += std::string(what.empty() ? "" : ", ") + "the contact sources";
+    return writeShard(out, "slip", dir, options, shard, block, items, what,
+                      [&](std::ostream& f) { writeSlipRows(f, rows); });
   }
-  return 0;
+  reportSlip(out, dir, {seed_, duration, contact_source_}, rows);
+  return plots_ ? plotSlip(out, dir) : kExitOk;
 }
 
 }  // namespace legkit::tools

@@ -6,7 +6,9 @@
 //                          delay, false alarms, and every filter with each slip reaction; every
 //                          filter on true versus detected contacts
 // Each writes its tables (CSV) and the data of its figures into an output folder and draws the
-// figures with tools/plots/57.6-contact.py and 57.7-slip.py.
+// figures with tools/plots/57.6-contact.py and 57.7-slip.py. Both take --shard i/N: contact a
+// block of its scenarios, slip a block of its scenarios and the contact-source comparison after
+// them; `legkit merge` makes the tables from the shards' rows (contact_report.hpp).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -40,6 +42,7 @@ class StudyContact {
   std::string contact_source_ = "fallback";  // slip study: where its filters' contacts come from
   std::vector<std::string> scenarios_;       // empty: the study's own list
   std::vector<std::string> filters_;         // slip study; empty: every filter
+  std::string shard_ = "1/1";                // `--shard i/N` (shard.hpp)
 };
 
 }  // namespace legkit::tools

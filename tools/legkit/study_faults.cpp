@@ -1,6 +1,7 @@
 #include "study_faults.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <iomanip>
 #include <memory>
@@ -13,6 +14,9 @@
 #include "eval/contact_training.hpp"
 #include "eval/fault_injection.hpp"
 #include "eval/runner.hpp"
+#include "faults_report.hpp"
+#include "output.hpp"
+#include "shard.hpp"
 #include "sim/physics_simulator.hpp"
 #include "validators.hpp"
 
@@ -20,9 +24,10 @@ namespace legkit::tools {
 
 namespace {
 
+namespace fs = std::filesystem;
+
 constexpr double kDuration = 3.0;  // stand 0-1 s, trot from 1 s
 constexpr double kOnset = 1.5;     // every fault but the drift starts here [s]
-constexpr double kRadToDeg = 180.0 / M_PI;
 
 struct FaultCase {
   const char* name;
@@ -30,32 +35,21 @@ struct FaultCase {
   bool has_answer;  // the monitor has an answer to compare against the run without it
 };
 
-// "alarm at t s, ..." for every alarm raised, "-" when none.
-std::string alarms(const eval::MonitoredRun& r) {
-  std::string s;
+// What the table shows of a monitored run (faults_report.hpp).
+FaultRun summarise(const eval::MonitoredRun& r) {
+  FaultRun f;
   for (int a = 0; a < engineering::kNumAlarms; ++a) {
     if (r.report.count[a] == 0) continue;
-    std::ostringstream os;
-    os << std::fixed << std::setprecision(3) << r.detected_at[a];
-    s += (s.empty() ? "" : ", ") +
-         std::string(engineering::alarmName(static_cast<engineering::Alarm>(a))) + " at " +
-         os.str() + " s";
+    f.alarms.emplace_back(engineering::alarmName(static_cast<engineering::Alarm>(a)),
+                          r.detected_at[a]);
   }
-  return s.empty() ? "-" : s;
-}
-
-// "position m / attitude deg / velocity m/s / position sigma m" maxima over the run, then the
-// estimator's and the pipeline's faults when there were any.
-std::string errors(const eval::MonitoredRun& r) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(4) << r.maxOver(r.position_error, 0, kDuration) << " m / "
-     << std::setprecision(2) << r.maxOver(r.attitude_error, 0, kDuration) * kRadToDeg << " deg / "
-     << r.maxOver(r.velocity_error, 0, kDuration) << " m/s / " << std::setprecision(4)
-     << r.maxOver(r.position_sigma, 0, kDuration) << " m";
-  if (!r.finite) os << " (not finite)";
-  const std::string health = eval::describe(r.health);
-  if (!health.empty()) os << "; " << health;
-  return os.str();
+  f.position = r.maxOver(r.position_error, 0, kDuration);
+  f.attitude = r.maxOver(r.attitude_error, 0, kDuration);
+  f.velocity = r.maxOver(r.velocity_error, 0, kDuration);
+  f.position_sigma = r.maxOver(r.position_sigma, 0, kDuration);
+  f.finite = r.finite;
+  f.health = eval::describe(r.health);
+  return f;
 }
 
 }  // namespace
@@ -71,9 +65,51 @@ StudyFaults::StudyFaults(CLI::App& study)
   faults_->add_option("--filter", filter_, "The estimator run on the recommended contact chain")
       ->check(CLI::IsMember(estimatorNames()))
       ->capture_default_str();
+  faults_
+      ->add_option("--shard", shard_,
+                   "Run shard i of N (a block of the fault cases) into --out; `legkit merge` "
+                   "combines the N shards into exactly the single-machine table")
+      ->check(shardSpec())
+      ->capture_default_str();
+  faults_
+      ->add_option("--out", out_dir_,
+                   "A shard's output folder (default legkit-out/study-faults-shard-<i>-of-<N>); "
+                   "the whole study prints its table and writes no files")
+      ->check(nonEmptyName());
 }
 
 int StudyFaults::run(std::ostream& out) const {
+  const Shard shard = parseShard(shard_);
+  if (shard.whole() && !out_dir_.empty()) {
+    throw UsageError(
+        "--out: the whole study faults writes no files (it prints its table); "
+        "--out is a shard's folder, with --shard i/N");
+  }
+  const std::vector<FaultCase> cases = {
+      {"none", [](const io::Log& l) { return l; }, false},
+      {"IMU rows missing 1.50-1.55 s",
+       [](const io::Log& l) { return eval::dropImuRows(l, kOnset, 0.05); }, false},
+      {"FR knee encoder frozen from 1.5 s",
+       [](const io::Log& l) { return eval::freezeEncoder(l, 5, kOnset); }, true},
+      {"FR force sensor +30 N over 1-3 s",
+       [](const io::Log& l) { return eval::driftForce(l, 1, 1.0, 2.0, 30.0); }, true},
+      {"every force sensor 0 N, 1.5-2.5 s",
+       [](const io::Log& l) { return eval::silenceForces(l, kOnset, 1.0); }, true},
+      {"accelerometer +10 g z, 1.50-1.51 s",
+       [](const io::Log& l) {
+         return eval::shockAccelerometer(l, kOnset, 0.01, Eigen::Vector3d(0.0, 0.0, 98.1));
+       },
+       false},
+      {"encoders 20 ms late", [](const io::Log& l) { return eval::delayEncoders(l, 0.02); }, false},
+  };
+  const int total = static_cast<int>(cases.size());
+  const Block block = shardBlock(shard, total, "fault cases");
+  const fs::path dir =
+      out_dir_.empty() ? fs::path("legkit-out/study-faults-shard-" + std::to_string(shard.index) +
+                                  "-of-" + std::to_string(shard.count))
+                       : fs::path(out_dir_);
+  if (!shard.whole()) makeOutputFolder(dir);  // before the runs: a bad --out fails at once
+
   sim::PhysicsOptions o = sim::PhysicsOptions::forScenario("physics-trot");
   o.duration = kDuration;
   o.seed = seed_;
@@ -93,35 +129,33 @@ int StudyFaults::run(std::ostream& out) const {
     return eval::runMonitored(*e, faulty, pipeline, eval::initialState(faulty), mo);
   };
 
-  const std::vector<FaultCase> cases = {
-      {"none", [](const io::Log& l) { return l; }, false},
-      {"IMU rows missing 1.50-1.55 s",
-       [](const io::Log& l) { return eval::dropImuRows(l, kOnset, 0.05); }, false},
-      {"FR knee encoder frozen from 1.5 s",
-       [](const io::Log& l) { return eval::freezeEncoder(l, 5, kOnset); }, true},
-      {"FR force sensor +30 N over 1-3 s",
-       [](const io::Log& l) { return eval::driftForce(l, 1, 1.0, 2.0, 30.0); }, true},
-      {"every force sensor 0 N, 1.5-2.5 s",
-       [](const io::Log& l) { return eval::silenceForces(l, kOnset, 1.0); }, true},
-      {"accelerometer +10 g z, 1.50-1.51 s",
-       [](const io::Log& l) {
-         return eval::shockAccelerometer(l, kOnset, 0.01, Eigen::Vector3d(0.0, 0.0, 98.1));
-       },
-       false},
-      {"encoders 20 ms late", [](const io::Log& l) { return eval::delayEncoders(l, 0.02); }, false},
-  };
-  out << "# " << filter_ << " on a " << kDuration << " s physics trot (seed " << seed_
-      << "), contacts from the fallback chain; errors are maxima: position / attitude / "
-         "velocity / position sigma, then the estimator's and the pipeline's faults\n\n"
-      << "| fault | alarms (first raised) | error with the monitor's answers | without them |\n"
-      << "|---|---|---|---|\n";
-  for (const FaultCase& c : cases) {
+  std::vector<FaultCaseResult> rows;
+  for (int i = block.begin; i < block.end; ++i) {
+    const FaultCase& c = cases[i];
     const io::Log faulty = c.inject(log);
-    const eval::MonitoredRun r = monitored(faulty, true);
-    const std::string raw = c.has_answer ? errors(monitored(faulty, false)) : "-";
-    out << "| " << c.name << " | " << alarms(r) << " | " << errors(r) << " | " << raw << " |\n";
+    FaultCaseResult& r = rows.emplace_back();
+    r.name = c.name;
+    r.answered = summarise(monitored(faulty, true));
+    if (c.has_answer) r.without = summarise(monitored(faulty, false));
   }
-  return 0;
+  if (shard.whole()) {
+    reportFaults(out, {filter_, kDuration, seed_}, rows);
+    return kExitOk;
+  }
+  OutputFolder folder(dir, kShardManifest);
+  std::vector<std::string> names;
+  for (const FaultCase& c : cases) names.push_back(c.name);
+  nlohmann::json manifest = shardManifest(
+      "study faults",
+      {{"seed", seed_}, {"filter", filter_}, {"duration", kDuration}, {"cases", names}}, shard,
+      block);
+  manifest["rows"] = faultRowsToJson(rows);
+  folder.writeManifest(manifest);
+  out << "study faults, shard " << shard.text() << ": cases " << block.begin << ".."
+      << block.end - 1 << " of " << total << " in " << dir.string()
+      << "/; `legkit merge OUT SHARD_DIR...` makes the study's table from all " << shard.count
+      << " shards\n";
+  return kExitOk;
 }
 
 }  // namespace legkit::tools
