@@ -181,32 +181,35 @@ void shareBias(int b, Matrix27& H11, Matrix27& H12, Matrix27& H22, Vector27& b1,
 // information on x_k) has no between-residual that says anything: its rows are left out.
 Matrix27 betweenMarginal(const Matrix27& H_prior, const ImuResidual& e, const model::ImuNoise& n,
                          double dt, const std::array<double, kFeet>& foot_variance_density,
-                         const std::array<bool, kFeet>& forgotten) {
+                         const std::array<bool, kFeet>& forgotten, Matrix27* P_pred = nullptr) {
   const Matrix3 I = Matrix3::Identity();
   Matrix27 Lambda = H_prior;
   for (int i = 0; i < kFeet; ++i)
     if (forgotten[i]) Lambda.block<3, 3>(footIndex(i), footIndex(i)) = I;
-  Matrix27 P0 = Lambda.llt().solve(Matrix27::Identity());
-  Matrix27 J0 = Matrix27::Zero(), J1 = Matrix27::Identity(), Q = Matrix27::Zero();
-  for (int a = 0; a < 5; ++a) {
-    for (int b = 0; b < 5; ++b) {
-      J0.block<3, 3>(kNav[a], kNav[b]) = e.J_x0.block<3, 3>(3 * a, 3 * b);
-      J1.block<3, 3>(kNav[a], kNav[b]) = e.J_x1.block<3, 3>(3 * a, 3 * b);
-    }
-  }
+  const Matrix27 P0 = Lambda.llt().solve(Matrix27::Identity());
+  // M = J_0 P_0 J_0^T. J_0 is -I on every row but the 9 of (r_R, r_v, r_p) (the ESKF's Phi): the
+  // rest of P_0 is kept as it is, and only those rows, T = J_0(nav rows) P_0, are products.
+  Eigen::Matrix<double, 9, kDim> T = Eigen::Matrix<double, 9, kDim>::Zero();
+  for (int b = 0; b < 5; ++b)
+    T.noalias() += e.J_x0.block<9, 3>(0, 3 * b).lazyProduct(P0.middleRows<3>(kNav[b]));
+  Eigen::Matrix<double, 9, 9> TJt = Eigen::Matrix<double, 9, 9>::Zero();  // J_0 P_0 J_0^T, nav
+  for (int b = 0; b < 5; ++b)
+    TJt.noalias() += T.middleCols<3>(kNav[b]).lazyProduct(e.J_x0.block<9, 3>(0, 3 * b).transpose());
+  Matrix27 M = P0;
+  M.topRows<9>() = -T;  // J_0(nav rows) P_0 (-I)^T on the columns of the other blocks
+  M.leftCols<9>() = -T.transpose();
+  M.topLeftCorner<9, 9>() = TJt;
+  // + Q, the noise of the IMU and feet residuals over dt (file comment).
   const double var_a = n.accel_noise_density * n.accel_noise_density;
-  Q.block<3, 3>(kTheta, kTheta) = n.gyro_noise_density * n.gyro_noise_density * dt * I;
-  Q.block<3, 3>(kV, kV) = var_a * dt * I;
-  Q.block<3, 3>(kV, kP) = Q.block<3, 3>(kP, kV) = var_a * dt * dt / 2.0 * I;
-  Q.block<3, 3>(kP, kP) = var_a * dt * dt * dt / 3.0 * I;
-  Q.block<3, 3>(kBg, kBg) = n.gyro_bias_random_walk * n.gyro_bias_random_walk * dt * I;
-  Q.block<3, 3>(kBa, kBa) = n.accel_bias_random_walk * n.accel_bias_random_walk * dt * I;
-  for (int i = 0; i < kFeet; ++i) {
-    J0.block<3, 3>(footIndex(i), footIndex(i)) = -I;
-    Q.block<3, 3>(footIndex(i), footIndex(i)) = foot_variance_density[i] * dt * I;
-  }
-  Matrix27 M = Q;
-  M.noalias() += J0 * P0 * J0.transpose();
+  M.block<3, 3>(kTheta, kTheta) += n.gyro_noise_density * n.gyro_noise_density * dt * I;
+  M.block<3, 3>(kV, kV) += var_a * dt * I;
+  M.block<3, 3>(kV, kP) += var_a * dt * dt / 2.0 * I;
+  M.block<3, 3>(kP, kV) += var_a * dt * dt / 2.0 * I;
+  M.block<3, 3>(kP, kP) += var_a * dt * dt * dt / 3.0 * I;
+  M.block<3, 3>(kBg, kBg) += n.gyro_bias_random_walk * n.gyro_bias_random_walk * dt * I;
+  M.block<3, 3>(kBa, kBa) += n.accel_bias_random_walk * n.accel_bias_random_walk * dt * I;
+  for (int i = 0; i < kFeet; ++i)
+    M.block<3, 3>(footIndex(i), footIndex(i)) += foot_variance_density[i] * dt * I;
   for (int i = 0; i < kFeet; ++i) {
     if (!forgotten[i]) continue;
     M.middleRows<3>(footIndex(i)).setZero();
@@ -219,7 +222,17 @@ Matrix27 betweenMarginal(const Matrix27& H_prior, const ImuResidual& e, const mo
     Minv.middleRows<3>(footIndex(i)).setZero();
     Minv.middleCols<3>(footIndex(i)).setZero();
   }
-  return J1.transpose() * Minv * J1;
+  // J_1^T M^-1 J_1: J_1 is the identity but for its attitude block A1 = JrInv(r_R).
+  const Matrix3 A1 = e.J_x1.topLeftCorner<3, 3>();
+  if (P_pred) {  // its inverse J_1^-1 M J_1^-T, an identity block on a forgotten foot
+    const Matrix3 A1_inv = A1.inverse();
+    *P_pred = M;
+    P_pred->leftCols<3>() = P_pred->leftCols<3>().lazyProduct(A1_inv.transpose()).eval();
+    P_pred->topRows<3>() = A1_inv.lazyProduct(P_pred->topRows<3>()).eval();
+  }
+  Minv.leftCols<3>() = Minv.leftCols<3>().lazyProduct(A1).eval();
+  Minv.topRows<3>() = A1.transpose().lazyProduct(Minv.topRows<3>()).eval();
+  return Minv;
 }
 
 // Cov_i^-1 of a stance foot's kinematics. The variance floor keeps the normal equations
@@ -426,8 +439,8 @@ void Tsif::step(const StepInput& raw) {
     const Vector27 r0 = x0.minus(prior);
     const Eigen::Matrix3d A = lie::SO3d::JrInv(r0.segment<3>(kTheta));
     H11 = Lambda0;
-    H11.leftCols<3>() = (H11.leftCols<3>() * A).eval();
-    H11.topRows<3>() = (A.transpose() * H11.topRows<3>()).eval();
+    H11.leftCols<3>() = H11.leftCols<3>().lazyProduct(A).eval();
+    H11.topRows<3>() = A.transpose().lazyProduct(H11.topRows<3>()).eval();
     b1 = Lambda0 * r0;
     b1.head<3>() = (A.transpose() * b1.head<3>()).eval();
     H_prior = H11;
@@ -436,15 +449,15 @@ void Tsif::step(const StepInput& raw) {
     e = imuResidual(x0, x1, previous_, dt, params_.gravity);
     // J_x1 is the identity but for its attitude block A1 = JrInv(r_R), and W_imu does not couple
     // r_R with the other rows: the products with J_x1 are W_imu with A1 applied to the attitude.
-    const Matrix15 WJ0 = W_imu * e.J_x0;
+    const Matrix15 WJ0 = W_imu.lazyProduct(e.J_x0);
     const Eigen::Matrix3d A1 = e.J_x1.topLeftCorner<3, 3>();
     Matrix15 H12_nav = WJ0.transpose();  // J_x0^T W J_x1
-    H12_nav.leftCols<3>() = (H12_nav.leftCols<3>() * A1).eval();
+    H12_nav.leftCols<3>() = H12_nav.leftCols<3>().lazyProduct(A1).eval();
     Matrix15 H22_nav = W_imu;  // J_x1^T W J_x1
     H22_nav.topLeftCorner<3, 3>() = A1.transpose() * W_imu.topLeftCorner<3, 3>() * A1;
     tsif::Vector15 b2_nav = W_imu * e.r;  // J_x1^T W r
     b2_nav.head<3>() = (A1.transpose() * b2_nav.head<3>()).eval();
-    addNavBlock(H11, e.J_x0.transpose() * WJ0);
+    addNavBlock(H11, e.J_x0.transpose().lazyProduct(WJ0));
     addNavBlock(H12, H12_nav);
     addNavBlock(H22, H22_nav);
     addNavVector(b1, WJ0.transpose() * e.r);
@@ -512,27 +525,26 @@ void Tsif::step(const StepInput& raw) {
   x_ = x1;
   // The new information: S again, but in covariance form (betweenMarginal), where rounding does
   // not eat the small information of the unobservable states.
-  Lambda_ = betweenMarginal(H_prior, e, params_.imu, dt, foot_variance_density, touched_down);
+  Matrix27 P_pred;  // its inverse, the covariance of the IMU prediction
+  Lambda_ =
+      betweenMarginal(H_prior, e, params_.imu, dt, foot_variance_density, touched_down, &P_pred);
   if (!params_.feet_correct_yaw && feet_used) {
     // The heading rule's covariance, P+ = P_opt + V C V^T (eskf.hpp: P - Q + E Q E^T, with
     // Q = P_pred - P_opt and E = V B^T), C = B^T Q B the 2 x 2 that the feet took from the
     // heading, in information form by the inversion lemma: Lambda+ = Lambda_opt - Lambda_opt V
     // C (I + V^T Lambda_opt V C)^-1 V^T Lambda_opt. A forgotten foot (no information yet) is
-    // decoupled from the heading: an identity block stands in for it in Lambda_pred.
+    // decoupled from the heading: an identity block stands in for it in P_pred.
     const Heading h = heading(x1_linearised);
-    Matrix27 Lambda_pred = Lambda_;
-    for (int i = 0; i < kFeet; ++i) {
-      const int f = footIndex(i);
-      if (Lambda_pred.middleRows<3>(f).isZero(0.0)) Lambda_pred.block<3, 3>(f, f).setIdentity();
-    }
     const Matrix27 Lambda_opt = Lambda_ + H_kin;
-    const Eigen::Matrix<double, kDim, 2> PB_pred = Lambda_pred.llt().solve(h.B);
+    // Lambda_pred^-1 B = P_pred B: betweenMarginal's M gives it without a factorisation.
+    const Eigen::Matrix<double, kDim, 2> PB_pred = P_pred.lazyProduct(h.B);
     const Eigen::Matrix<double, kDim, 2> PB_opt = Lambda_opt.llt().solve(h.B);
     Eigen::Matrix2d C = h.B.transpose() * (PB_pred - PB_opt);
     C = 0.5 * (C + C.transpose()).eval();
-    const Eigen::Matrix<double, kDim, 2> LV = Lambda_opt * h.V;
+    const Eigen::Matrix<double, kDim, 2> LV = Lambda_opt.lazyProduct(h.V);
     const Eigen::Matrix2d inner = Eigen::Matrix2d::Identity() + h.V.transpose() * LV * C;
-    Lambda_ = Lambda_opt - LV * C * inner.inverse() * LV.transpose();
+    const Eigen::Matrix<double, kDim, 2> LVK = LV * (C * inner.inverse());
+    Lambda_ = Lambda_opt - LVK.lazyProduct(LV.transpose());
   } else {
     Lambda_ += H_kin;
   }
@@ -540,8 +552,8 @@ void Tsif::step(const StepInput& raw) {
   // (the ESKF's reset): dtheta+ = G dtheta, G = I - [dtheta1 / 2]_x, so Lambda <- G^-T Lambda G^-1.
   const Eigen::Matrix3d G_inv =
       (Eigen::Matrix3d::Identity() - lie::hat3(Eigen::Vector3d(0.5 * dtheta1))).inverse();
-  Lambda_.leftCols<3>() = (Lambda_.leftCols<3>() * G_inv).eval();
-  Lambda_.topRows<3>() = (G_inv.transpose() * Lambda_.topRows<3>()).eval();
+  Lambda_.leftCols<3>() = Lambda_.leftCols<3>().lazyProduct(G_inv).eval();
+  Lambda_.topRows<3>() = G_inv.transpose().lazyProduct(Lambda_.topRows<3>()).eval();
   Lambda_ = 0.5 * (Lambda_ + Lambda_.transpose()).eval();
   for (int i = 0; i < kFeet; ++i) in_contact_[i] = contact[i] != nullptr;
   finishStep(in, imu_admitted);
