@@ -7,7 +7,8 @@
 // foot now and by no other foot at the previous sample, so that the filter never mistakes a new
 // foot for one that stayed down. When every slot is taken, the foot is left out of that sample
 // (Fault::kNoFootSlot) until one frees. For a quadruped (ids 0..3, four slots) every foot keeps
-// the slot of its own id and map() hands back its input untouched.
+// the slot of its own id and map() hands back its input untouched. A filter may use fewer slots
+// than it has room for (the ESKF's two flat feet): capacity.
 #pragma once
 
 #include <array>
@@ -21,7 +22,7 @@ namespace legkit {
 template <int Slots>
 class FootSlots {
  public:
-  FootSlots() { reset(); }
+  explicit FootSlots(int capacity = Slots) : capacity_(capacity) { reset(); }
   void reset() {
     slot_of_.fill(-1);
     owner_.fill(-1);
@@ -46,8 +47,8 @@ class FootSlots {
     const auto isFree = [&](int s) { return owner[s] < 0 && owner_[s] < 0; };
     for (const ContactMeasurement& c : in.stance()) {
       if (slot_of[c.foot] >= 0) continue;
-      int s = c.foot < Slots && isFree(c.foot) ? c.foot : -1;
-      for (int k = 0; s < 0 && k < Slots; ++k) s = isFree(k) ? k : -1;
+      int s = c.foot < capacity_ && isFree(c.foot) ? c.foot : -1;
+      for (int k = 0; s < 0 && k < capacity_; ++k) s = isFree(k) ? k : -1;
       if (s < 0) {
         health.record(Fault::kNoFootSlot, in.t);
         identity = false;
@@ -74,6 +75,7 @@ class FootSlots {
 
  private:
   static constexpr int kMaxIds = leg_odometry::kMaxContacts;
+  int capacity_;                      // slots 0..capacity_-1 are used (<= Slots)
   std::array<int, kMaxIds> slot_of_;  // per foot id: its slot while in stance, else -1
   std::array<int, Slots> owner_;      // per slot: the foot id holding it, else -1
 };

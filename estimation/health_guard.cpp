@@ -70,19 +70,27 @@ void checkStepInput(const StepInput& in, int max_feet, const char* who) {
       footFail(os.str());
     }
     if (c.v_body && !c.v_body->allFinite()) footFail("v_body is not finite");
-    if (!c.cov.allFinite()) footFail("covariance is not finite");
-    if (!isSymmetric(c.cov)) footFail("covariance is not symmetric");
-    const Eigen::Matrix3d& C = c.cov;
-    // Sylvester's criterion: the three leading principal minors are positive (LLT decides where
-    // the minors overflow).
-    const bool minors =
-        C(0, 0) > 0.0 && C(0, 0) * C(1, 1) - C(0, 1) * C(1, 0) > 0.0 && C.determinant() > 0.0;
-    if (!minors) {
+    const auto checkCovariance = [&](const Eigen::Matrix3d& C, const std::string& name) {
+      if (!C.allFinite()) footFail(name + " is not finite");
+      if (!isSymmetric(C)) footFail(name + " is not symmetric");
+      // Sylvester's criterion: the three leading principal minors are positive (LLT decides
+      // where the minors overflow).
+      const bool minors =
+          C(0, 0) > 0.0 && C(0, 0) * C(1, 1) - C(0, 1) * C(1, 0) > 0.0 && C.determinant() > 0.0;
+      if (minors) return;
       // An overflowing pivot can leave a NaN in the factor while info() says Success.
       const Eigen::LLT<Eigen::Matrix3d> llt(C);
       if (llt.info() != Eigen::Success || !llt.matrixLLT().allFinite()) {
-        footFail("covariance is not positive definite");
+        footFail(name + " is not positive definite");
       }
+    };
+    checkCovariance(c.cov, "covariance");
+    if (c.R_body) {  // a flat foot's orientation: a rotation to 1e-6, and its covariance
+      const Eigen::Matrix3d& Z = *c.R_body;
+      if (!Z.allFinite() || !(Z.transpose() * Z).isIdentity(1e-6) || !(Z.determinant() > 0.0)) {
+        footFail("orientation R_body is not a rotation matrix");
+      }
+      checkCovariance(c.rot_cov, "orientation covariance");
     }
   }
 }

@@ -80,6 +80,12 @@ LogFrontend::LogFrontend(const io::LogLayout& layout, const model::QuadrupedKine
   if (!layout.joints && layout.foot_columns == io::FootCovariance::kNone) {
     throw std::invalid_argument("LogFrontend: the log has neither joint nor foot columns");
   }
+  if (noise.foot_rotations) {
+    throw std::invalid_argument(
+        "feet.flat: the feet's orientation comes from the robot's own model (robot.model, with "
+        "the log's joint<k>_q columns); the built-in quadruped's feet and a log's foot columns "
+        "are points");
+  }
 }
 
 LogFrontend::LogFrontend(const io::LogLayout& layout, const model::LegKinematics& legs,
@@ -90,6 +96,12 @@ LogFrontend::LogFrontend(const io::LogLayout& layout, const model::LegKinematics
       extrinsic_(extrinsic),
       moves_feet_(!extrinsic.isIdentity()) {
   checkLegs(layout, legs);
+  Eigen::Matrix3d R_BF;
+  model::FootJacobian J_w;
+  if (noise.foot_rotations && !legs.footRotation(0, model::LegJointVector::Zero(), R_BF, J_w)) {
+    throw std::invalid_argument(
+        "feet.flat: the robot's kinematics give no foot orientation (its feet are points)");
+  }
 }
 
 StepInput LogFrontend::imuInput(const io::LogRow& row, double dt) const {
@@ -119,6 +131,15 @@ ContactMeasurement LogFrontend::baseMeasurement(const io::LogRow& row, int foot)
     c.p_body = p;
     c.v_body = J * row.joint_dq;  // J dq
     c.cov = var_q * J * J.transpose() + var_foot * Eigen::Matrix3d::Identity();
+    if (noise_.foot_rotations) {
+      Eigen::Matrix3d R_BF;
+      legs_->footRotation(foot, row.joint_q, R_BF, J);  // the constructor checked it has them
+      const double var_sole = noise_.foot_rotation_sigma * noise_.foot_rotation_sigma;
+      c.R_body = R_BF;
+      // n in the foot frame: R_BF^T J_w dq is the foot's rotation error for angle errors dq.
+      const Eigen::Matrix<double, 3, model::kMaxLegJoints> J_F = R_BF.transpose() * J;
+      c.rot_cov = var_q * J_F * J_F.transpose() + var_sole * Eigen::Matrix3d::Identity();
+    }
   } else {
     c.p_body = row.feet[foot].p_body;
     c.cov = row.feet[foot].cov;
@@ -138,6 +159,8 @@ ContactMeasurement LogFrontend::measurement(const io::LogRow& row, int foot,
     c.p_body = pointInImu(extrinsic_, c.p_body);
     c.cov = covarianceInImu(extrinsic_, c.cov);
     if (c.v_body) c.v_body = vectorInImu(extrinsic_, *c.v_body);
+    // R_IF = R_BI^T R_BF; rot_cov is in the foot's own frame and stays.
+    if (c.R_body) c.R_body = extrinsic_.q_BI.toRotationMatrix().transpose() * *c.R_body;
   }
   if (velocities != nullptr && differentiatesFeet()) c.v_body = velocities->velocity(foot);
   return c;

@@ -368,7 +368,15 @@ const std::vector<Node>& schema() {
                    "correct_yaw", [](S& s) -> bool& { return s.feet.correct_yaw; },
                    "stance feet may correct the heading (yaw and the gyro bias about the "
                    "vertical), which they cannot observe: false keeps the gyro's heading (the "
-                   "heading rule of section 57.5)")}),
+                   "heading rule of section 57.5)"),
+               flag(
+                   "flat", [](S& s) -> bool& { return s.feet.flat; },
+                   "flat feet (a humanoid's soles): the ESKF also uses each stance foot's "
+                   "orientation from the robot's model (at most two feet; section 57.5)"),
+               number(
+                   "rotation_stance_density",
+                   [](S& s) -> double& { return s.feet.rotation_stance_density; }, 1e-9, 1,
+                   "a flat stance foot's rotation random walk [rad/sqrt(s)]")}),
       section(
           "linear_kf", "The linear KF of section 57.4 and its attitude filter",
           {number(
@@ -420,9 +428,8 @@ const std::vector<Node>& schema() {
                    "implementation's"),
                choice<invariant::inekf::TouchdownAttitude>(
                    "touchdown_attitude",
-                   [](S& s) -> invariant::inekf::TouchdownAttitude& {
-                     return s.invariant_ekf.touchdown_attitude;
-                   },
+                   [](S& s) -> invariant::inekf::
+                                TouchdownAttitude& { return s.invariant_ekf.touchdown_attitude; },
                    {{invariant::inekf::TouchdownAttitude::kCorrected, "corrected"},
                     {invariant::inekf::TouchdownAttitude::kPredicted, "predicted"}},
                    "the attitude that places a new foot: after this sample's correction, or "
@@ -439,6 +446,11 @@ const std::vector<Node>& schema() {
                number(
                    "foot_point_sigma", [](S& s) -> double& { return s.frontend.foot_point_sigma; },
                    0, 0.1, "the contact point on a round foot [m]"),
+               number(
+                   "foot_rotation_sigma",
+                   [](S& s) -> double& { return s.frontend.foot_rotation_sigma; }, 0, 0.5,
+                   "a flat foot's orientation against the ground, beyond the encoders (feet.flat) "
+                   "[rad]"),
                choice<StampHandling>(
                    "timestamps", [](S& s) -> StampHandling& { return s.conditioning.stamps; },
                    {{StampHandling::kAuto, "auto"},
@@ -708,6 +720,12 @@ Settings readSettings(const io::YamlValue& root, Settings s = defaultSettings())
 }
 
 }  // namespace
+
+FrontendNoise frontendNoise(const Settings& settings) {
+  FrontendNoise noise = settings.frontend;
+  noise.foot_rotations = settings.feet.flat;
+  return noise;
+}
 
 Settings defaultSettings() {
   Settings s;

@@ -93,6 +93,15 @@ struct FootSettings {
   double stance_density = 1e-3;  // [m/sqrt(s)] a stance foot's slip allowance
   double swing_density = 2.0;    // [m/sqrt(s)] a swing foot (the soft-contact end of p_c = 0)
   bool correct_yaw = false;      // stance feet may correct the heading (ESKF, InEKF, TSIF)
+  // Flat feet (a humanoid's soles, section 57.5): the ESKF carries each stance foot's orientation
+  // too, measured from the robot's model (frontend.foot_rotation_sigma); the other filters use
+  // the feet as points.
+  bool flat = false;
+  // [rad/sqrt(s)] a flat stance foot's rotation random walk: DILIGENT-KIO's stance-foot angular
+  // velocity noise, 4e-3 rad/s (Ramadoss et al. 2021, configMatlabSensorDev.m), read as a density
+  // as config/robots/icub.yaml reads its linear one; about 0.1 deg over a 0.25 s stance, the
+  // roll of a rubber sole that stays flat on the ground.
+  double rotation_stance_density = 4e-3;
 };
 
 // What only the linear KF (section 57.4) has.
@@ -166,6 +175,9 @@ struct Settings {
   InvariantEkfSettings invariant_ekf;
   TsifSettings tsif;
 };
+
+// The front end's noise with foot orientations on when the feet are flat (feet.flat).
+FrontendNoise frontendNoise(const Settings& settings);
 
 // The kit's defaults for a robot, those of `legkit run` on a physics scenario or a recorded log:
 // every estimator's own defaults but the stance feet's slip allowance (kRobotStanceDensity) and

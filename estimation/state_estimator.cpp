@@ -36,8 +36,9 @@ io::LogLayout managerLayout(const Settings& s, const model::LegKinematics* legs)
 // The front end: feet into the IMU frame of settings.imu_extrinsic, through the robot's legs.
 LogFrontend frontendOf(const io::LogLayout& layout, const model::LegKinematics* legs,
                        const Settings& s) {
-  return legs ? LogFrontend(layout, *legs, s.frontend, s.imu_extrinsic)
-              : LogFrontend(layout, model::QuadrupedKinematics(), s.frontend, s.imu_extrinsic);
+  const FrontendNoise noise = frontendNoise(s);
+  return legs ? LogFrontend(layout, *legs, noise, s.imu_extrinsic)
+              : LogFrontend(layout, model::QuadrupedKinematics(), noise, s.imu_extrinsic);
 }
 
 // What the detectors know of the robot (detectorContext), and the settings' planned gait

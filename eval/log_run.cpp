@@ -77,7 +77,7 @@ RunResult runWithSettings(const io::Log& recorded, const Settings& settings,
   const std::unique_ptr<model::LegKinematics> legs = logLegs(log.layout, settings.robot);
   checkLogRobot(log.layout, settings.robot, legs.get(), "the settings", "the log");
   const LogFrontend frontend =
-      logFrontend(log.layout, legs.get(), settings.frontend, settings.imu_extrinsic);
+      logFrontend(log.layout, legs.get(), frontendNoise(settings), settings.imu_extrinsic);
   const int num_feet = legs ? legs->numFeet() : log.layout.num_feet;
   contact::DetectorContext robot =
       detectorContext(settings, robotMass(settings, legs.get()), num_feet);

@@ -17,6 +17,11 @@ struct ContactMeasurement {
   // give a stance foot the process noise density of contact::softFootNoiseDensity (eq. Q_f of
   // 57.6) between their stance and swing densities; 1 (a hard contact) leaves them unchanged.
   double probability = 1.0;
+  // A flat foot's orientation, R_BF (foot frame to body frame), when the kinematics give it and
+  // the settings ask for it (feet.flat; section 57.5, flat feet): Z = R_BF,true Exp(n),
+  // n ~ N(0, rot_cov), a rotation error in the foot's own frame [rad^2].
+  std::optional<Eigen::Matrix3d> R_body{};
+  Eigen::Matrix3d rot_cov = Eigen::Matrix3d::Zero();
 };
 
 }  // namespace legkit

@@ -28,6 +28,14 @@ class LegKinematics {
   // for the MuJoCo implementation (it owns one mjData).
   virtual void foot(int foot, const LegJointVector& q, Eigen::Vector3d& p_B,
                     FootJacobian& J) const = 0;
+  // A flat foot's orientation (section 57.5, flat feet): the rotation R_BF of the foot's frame
+  // into the base frame at joint angles q, and its rotational Jacobian J_w, the foot's angular
+  // velocity relative to the base in the base frame being J_w dq. False (nothing written) for a
+  // model whose feet are points (the analytic quadruped).
+  virtual bool footRotation(int /*foot*/, const LegJointVector& /*q*/, Eigen::Matrix3d& /*R_BF*/,
+                            FootJacobian& /*J_w*/) const {
+    return false;
+  }
 };
 
 }  // namespace legkit::model

@@ -526,18 +526,26 @@ void MujocoLegKinematics::update(const LegJointVector& q) const {
   have_q_ = true;
 }
 
-void MujocoLegKinematics::foot(int foot, const LegJointVector& q, Eigen::Vector3d& p_B,
-                               FootJacobian& J) const {
+const MujocoLegKinematics::Frame& MujocoLegKinematics::footFrame(int foot,
+                                                                 const LegJointVector& q) const {
   if (foot < 0 || foot >= numFeet()) {
     throw std::out_of_range("robot model '" + path_ + "': foot id " + std::to_string(foot) +
                             " is out of range (it has " + std::to_string(numFeet()) + " feet)");
   }
   update(q);
+  return feet_[foot];
+}
+
+namespace {
+using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+}  // namespace
+
+void MujocoLegKinematics::foot(int foot, const LegJointVector& q, Eigen::Vector3d& p_B,
+                               FootJacobian& J) const {
+  const Frame& f = footFrame(foot, q);
   const mjModel& m = *model_;
   const mjData& d = *data_;
-  const Frame& f = feet_[foot];
   const mjtNum* x_f = f.is_site ? d.site_xpos + 3 * f.id : d.xpos + 3 * f.id;
-  using RowMajor3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
   const Eigen::Map<const RowMajor3> R_WB(d.xmat + 9 * base_);  // base axes in the world
   const Eigen::Map<const Eigen::Vector3d> x_B(d.xpos + 3 * base_);
   p_B = R_WB.transpose() * (Eigen::Map<const Eigen::Vector3d>(x_f) - x_B);
@@ -546,6 +554,23 @@ void MujocoLegKinematics::foot(int foot, const LegJointVector& q, Eigen::Vector3
       jacp_.data(), 3, m.nv);
   J.setZero();
   for (int k = 0; k < numJoints(); ++k) J.col(k) = R_WB.transpose() * J_f.col(joints_[k].dof);
+}
+
+bool MujocoLegKinematics::footRotation(int foot, const LegJointVector& q, Eigen::Matrix3d& R_BF,
+                                       FootJacobian& J_w) const {
+  const Frame& f = footFrame(foot, q);
+  const mjModel& m = *model_;
+  const mjData& d = *data_;
+  const Eigen::Map<const RowMajor3> R_WB(d.xmat + 9 * base_);
+  const Eigen::Map<const RowMajor3> R_WF(f.is_site ? d.site_xmat + 9 * f.id : d.xmat + 9 * f.id);
+  R_BF = R_WB.transpose() * R_WF;
+  // The rotational Jacobian is the same for every point of the body: the body's origin will do.
+  mj_jac(&m, &d, nullptr, jacp_.data(), d.xpos + 3 * f.body, f.body);  // J_w,F, world, 3 x nv
+  const Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>> J_f(
+      jacp_.data(), 3, m.nv);
+  J_w.setZero();
+  for (int k = 0; k < numJoints(); ++k) J_w.col(k) = R_WB.transpose() * J_f.col(joints_[k].dof);
+  return true;
 }
 
 std::unique_ptr<LegKinematics> makeLegKinematics(const std::string& model, const std::string& base,

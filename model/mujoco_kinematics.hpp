@@ -61,6 +61,11 @@ class MujocoLegKinematics final : public LegKinematics {
   // 0..numFeet()-1, std::invalid_argument for non-finite leg joint angles.
   void foot(int foot, const LegJointVector& q, Eigen::Vector3d& p_B,
             FootJacobian& J) const override;
+  // The foot frame's (the site's, or the foot body's) orientation in the base frame and its
+  // rotational Jacobian, R_BF = R_WB^T R_WF and B_J_w = R_WB^T J_w,F (mj_jac's rotational part;
+  // the base's is zero in the leg columns). Throws as foot() does.
+  bool footRotation(int foot, const LegJointVector& q, Eigen::Matrix3d& R_BF,
+                    FootJacobian& J_w) const override;
 
  private:
   struct Frame {
@@ -84,6 +89,7 @@ class MujocoLegKinematics final : public LegKinematics {
   int base_ = -1;   // base body id
   std::vector<Frame> feet_;
   std::vector<Joint> joints_;
+  const Frame& footFrame(int foot, const LegJointVector& q) const;  // checked id, kinematics at q
   mutable std::vector<mjtNum> jacp_;  // 3 x nv, row-major (mj_jac's layout), allocated once
   mutable LegJointVector q_last_;     // the q the kinematics in data_ belong to
   mutable bool have_q_ = false;

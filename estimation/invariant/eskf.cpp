@@ -72,6 +72,7 @@ using eskf::kBa;
 using eskf::kBg;
 using eskf::kDim;
 using eskf::kFeet;
+using eskf::kFlatFeet;
 using eskf::kP;
 using eskf::kTheta;
 using eskf::kV;
@@ -84,6 +85,15 @@ using Matrix3 = Eigen::Matrix3d;
 using Vector3 = Eigen::Vector3d;
 using Matrix27x3 = Eigen::Matrix<double, kDim, 3>;
 
+// The error blocks of a flat foot's rotation: where feet 3 and 4 of a quadruped would be.
+constexpr int rotationIndex(int i) {
+  return eskf::footIndex(kFlatFeet + i);
+}
+// A flat foot's rotation before touchdown and in swing (the foot turns freely): its prior at
+// reset [rad] and its random walk [rad/sqrt(s)], the p_c = 0 end of a soft contact (57.6).
+constexpr double kFootRotationPrior = 1.0;
+constexpr double kFootRotationSwingDensity = 1.0;
+
 void requireParam(bool ok, const char* what) {
   if (!ok) throw std::invalid_argument(std::string("Eskf: ") + what);
 }
@@ -93,7 +103,8 @@ void requireParam(bool ok, const char* what) {
 Eskf::Eskf(const EskfParams& params)
     : params_(params),
       gate_(params.gating, "Eskf"),
-      pose_gate_(fusion::poseGateThreshold(params.gating)) {
+      pose_gate_(fusion::poseGateThreshold(params.gating)),
+      slots_(params.flat_feet ? kFlatFeet : kFeet) {
   checkFilterParams(params, "Eskf", false);  // zero densities: exact legs, constant bias
   requireParam(params.foot_init_sigma > 0.0 && std::isfinite(params.foot_init_sigma),
                "foot_init_sigma must be positive and finite");
@@ -112,11 +123,16 @@ void Eskf::reset(const EstimateSample& x0) {
   diag.segment<3>(kV).setConstant(variance(params_.sigma_velocity));
   diag.segment<3>(kP).setConstant(variance(params_.sigma_position));
   diag.segment<3 * kFeet>(eskf::kD).setConstant(variance(params_.foot_init_sigma));
+  if (params_.flat_feet) {
+    diag.segment<3 * kFlatFeet>(rotationIndex(0)).setConstant(variance(kFootRotationPrior));
+  }
   diag.segment<3>(kBg).setConstant(variance(params_.sigma_gyro_bias));
   diag.segment<3>(kBa).setConstant(variance(params_.sigma_accel_bias));
   P_ = diag.asDiagonal();
   in_contact_.fill(false);
   probability_.fill(0.0);
+  foot_R_.fill(lie::SO3d{});
+  rotation_held_.fill(false);
   slots_.reset();
   gate_.reset();
   nis_windows_.reset();
@@ -167,12 +183,18 @@ void Eskf::predict(double dt) {
   P_.block<3, 3>(kV, kP).diagonal().array() += var_a * dt * dt / 2.0;
   P_.block<3, 3>(kP, kV).diagonal().array() += var_a * dt * dt / 2.0;
   const double sw = params_.foot_swing_density;
-  for (int i = 0; i < kFeet; ++i) {
-    // sigma_d^2: the swing density, or in contact the soft one of p_c (Q_f of 57.6)
-    const double density = in_contact_[i] ? contact::softFootNoiseDensity(
-                                                probability_[i], params_.foot_stance_density, sw)
-                                          : sw * sw;
-    addDiagonal(eskf::footIndex(i), density * dt);
+  const auto footDensity = [&](int i, double stance, double swing) {
+    // sigma^2: the swing density, or in contact the soft one of p_c (Q_f of 57.6)
+    return in_contact_[i] ? contact::softFootNoiseDensity(probability_[i], stance, swing)
+                          : swing * swing;
+  };
+  for (int i = 0; i < numPointFeet(); ++i) {
+    addDiagonal(eskf::footIndex(i), footDensity(i, params_.foot_stance_density, sw) * dt);
+  }
+  for (int i = 0; params_.flat_feet && i < kFlatFeet; ++i) {
+    addDiagonal(
+        rotationIndex(i),
+        footDensity(i, params_.foot_rotation_stance_density, kFootRotationSwingDensity) * dt);
   }
   addDiagonal(kBg, n.gyro_bias_random_walk * n.gyro_bias_random_walk * dt);
   addDiagonal(kBa, n.accel_bias_random_walk * n.accel_bias_random_walk * dt);
@@ -181,46 +203,69 @@ void Eskf::predict(double dt) {
 }
 
 Eskf::Update Eskf::updateFoot(int i, const ContactMeasurement& c, double t, Vector27& dx) {
-  const int d = eskf::footIndex(i);
-  eskf::Matrix39 H;  // over (dtheta, dp, dd_i)
+  eskf::Matrix39 H;  // h_i = R^T (d_i - p) over (dtheta, dp, dd_i)
   const Vector3 h = eskf::footInBody(x_, i, &H);
-  const auto Hblock = [&](int k) { return H.block<3, 3>(0, 3 * k); };
-  const std::array<int, 3> cols = {kTheta, kP, d};
+  return correct<3>(i, {kTheta, kP, eskf::footIndex(i)}, H, c.p_body - h, c.cov, t,
+                    Measured::kPosition, c.probability, dx);
+}
 
-  // P H^T (27 x 3) from H's three non-zero blocks.
+Eskf::Update Eskf::updateFootRotation(int i, const ContactMeasurement& c, double t, Vector27& dx) {
+  // h = R^T R_F; r = Log(h_hat^T Z) = dphi_i - h_hat^T dtheta + n (file comment, "Flat feet").
+  const Matrix3 h = x_.R.matrix().transpose() * foot_R_[i].matrix();
+  Eigen::Matrix<double, 3, 6> H;  // over (dtheta, dphi_i)
+  H << -h.transpose(), Matrix3::Identity();
+  const Vector3 r = lie::SO3d::fromQuaternion(Eigen::Quaterniond(h.transpose() * *c.R_body)).Log();
+  return correct<2>(i, {kTheta, rotationIndex(i)}, H, r, c.rot_cov, t, Measured::kRotation,
+                    c.probability, dx);
+}
+
+template <int Blocks>
+Eskf::Update Eskf::correct(int i, const std::array<int, Blocks>& cols,
+                           const Eigen::Matrix<double, 3, 3 * Blocks>& H, const Vector3& residual,
+                           const Matrix3& cov, double t, Measured measured, double probability,
+                           Vector27& dx) {
+  const bool position = measured == Measured::kPosition;
+  const auto Hblock = [&](int k) { return H.template block<3, 3>(0, 3 * k); };
+
+  // P H^T (27 x 3) from H's non-zero blocks.
   Matrix27x3 PHt = Matrix27x3::Zero();
-  for (int k = 0; k < 3; ++k)
+  for (int k = 0; k < Blocks; ++k)
     PHt.noalias() += P_.middleCols<3>(cols[k]).lazyProduct(Hblock(k).transpose());
-  Matrix3 S = c.cov;  // S = H P H^T + Cov
-  for (int k = 0; k < 3; ++k) S.noalias() += Hblock(k) * PHt.middleRows<3>(cols[k]);
+  Matrix3 S = cov;  // S = H P H^T + Cov
+  for (int k = 0; k < Blocks; ++k) S.noalias() += Hblock(k) * PHt.middleRows<3>(cols[k]);
   // K = P H^T S^-1 through S = L L^T; a failed factorisation skips the update (the contract).
   const Eigen::LLT<Matrix3> llt(S);
   if (llt.info() != Eigen::Success) return Update::kFailed;
 
   // Innovation against the error mean accumulated so far: z - h(x_hat) - H dx.
-  Vector3 r = c.p_body - h;
-  for (int k = 0; k < 3; ++k) r.noalias() -= Hblock(k) * dx.segment<3>(cols[k]);
-  if (gate_.enabled()) {
+  Vector3 r = residual;
+  for (int k = 0; k < Blocks; ++k) r.noalias() -= Hblock(k) * dx.segment<3>(cols[k]);
+  if (position && gate_.enabled()) {
     // d^2 = r^T S^-1 r = |L^-1 r|^2 against the chi-square gate (57.9)
     const double d2 = llt.matrixL().solve(r).squaredNorm();
     const engineering::FootGate::Decision decision = gate_.decide(i, d2, t);
     if (decision == engineering::FootGate::Decision::kGate) return Update::kGated;
     if (decision == engineering::FootGate::Decision::kReinitialise) return Update::kReinitialise;
   }
-  if (c.probability >= kNisMinProbability) nis_windows_.add(i, r, S, innovations_);
+  if (position && probability >= kNisMinProbability) nis_windows_.add(i, r, S, innovations_);
   Matrix27x3 K = PHt.lazyProduct(llt.solve(Matrix3::Identity()));
-  if (!params_.feet_correct_yaw) {
+  // The rule is the feet's positions' (their yaw comes through the legs' scale); a sole's
+  // rotation keeps its heading information (file comment, "Flat feet").
+  if (!params_.feet_correct_yaw && position) {
     // The heading stays the gyro's (file comment): K <- (I - E) K. E K is the heading row
     // psi = up^T K_theta (up = R_hat^T e_z, the vertical in the local error) times the turn of the
     // robot about its base (up on the attitude, e_z x v on the velocity, e_z x (d_i - p) on the
-    // feet), and the gyro bias's part along up.
+    // feet, R_F^T e_z on a flat foot's rotation), and the gyro bias's part along up.
     const Vector3 up = x_.R.matrix().row(2).transpose();
     const Eigen::RowVector3d psi = up.transpose() * K.middleRows<3>(kTheta);
     const auto turned = [](const Vector3& x) { return Vector3(-x.y(), x.x(), 0.0); };  // e_z x x
     K.middleRows<3>(kTheta) -= up * psi;
     K.middleRows<3>(kV) -= turned(x_.v) * psi;
-    for (int j = 0; j < eskf::kFeet; ++j) {
+    for (int j = 0; j < numPointFeet(); ++j) {
       K.middleRows<3>(eskf::footIndex(j)) -= turned(x_.d[j] - x_.p) * psi;
+    }
+    for (int j = 0; params_.flat_feet && j < kFlatFeet; ++j) {
+      K.middleRows<3>(rotationIndex(j)) -= foot_R_[j].matrix().row(2).transpose() * psi;
     }
     K.middleRows<3>(kBg) -= up * (up.transpose() * K.middleRows<3>(kBg));
   }
@@ -230,8 +275,8 @@ Eskf::Update Eskf::updateFoot(int i, const ContactMeasurement& c, double t, Vect
   // P = A - (A H^T) K^T + K Cov K^T = A + (K Cov - A H^T) K^T, two rank-3 products.
   Matrix27 A = P_;
   A.noalias() -= K.lazyProduct(PHt.transpose());
-  Matrix27x3 B = K.lazyProduct(c.cov);  // K Cov - A H^T
-  for (int k = 0; k < 3; ++k)
+  Matrix27x3 B = K.lazyProduct(cov);  // K Cov - A H^T
+  for (int k = 0; k < Blocks; ++k)
     B.noalias() -= A.middleCols<3>(cols[k]).lazyProduct(Hblock(k).transpose());
   A.noalias() += B.lazyProduct(K.transpose());
   P_ = 0.5 * (A + A.transpose());
@@ -280,17 +325,29 @@ fusion::PoseUpdate Eskf::updatePose(const fusion::PoseMeasurement& z) {
 }
 
 void Eskf::inject(const Vector27& dx) {
-  x_ = x_.plus(dx);  // x_hat <- x_hat (+) dx_hat
-  // Reset: P <- G P G^T, G = blockdiag(I - [dtheta_hat / 2]_x, I, ...): only the dtheta rows and
-  // columns change.
-  const Matrix3 G = Matrix3::Identity() - lie::hat3(Vector3(0.5 * dx.segment<3>(kTheta)));
-  Eigen::Matrix<double, 3, kDim> rows;
-  rows.noalias() = G * P_.middleRows<3>(kTheta);
-  Matrix3 P_tt;
-  P_tt.noalias() = rows.middleCols<3>(kTheta) * G.transpose();
-  P_.middleRows<3>(kTheta) = rows;
-  P_.middleCols<3>(kTheta) = rows.transpose();
-  P_.block<3, 3>(kTheta, kTheta) = 0.5 * (P_tt + P_tt.transpose());
+  Vector27 dx_points = dx;  // x_hat <- x_hat (+) dx_hat
+  if (params_.flat_feet) {
+    dx_points.segment<3 * kFlatFeet>(rotationIndex(0)).setZero();
+    for (int i = 0; i < kFlatFeet; ++i) {  // R_F <- R_F Exp(dphi_hat), as the attitude
+      foot_R_[i] = lie::SO3d::fromQuaternion(Eigen::Quaterniond(
+          foot_R_[i].matrix() * lie::SO3d::Exp(dx.segment<3>(rotationIndex(i))).matrix()));
+    }
+  }
+  x_ = x_.plus(dx_points);
+  // Reset: P <- G P G^T, G = blockdiag(I - [dtheta_hat / 2]_x, I, ...) (and I - [dphi_hat / 2]_x
+  // on a flat foot's rotation): only the rows and columns of the local rotations change.
+  const auto reset = [&](int at) {
+    const Matrix3 G = Matrix3::Identity() - lie::hat3(Vector3(0.5 * dx.segment<3>(at)));
+    Eigen::Matrix<double, 3, kDim> rows;
+    rows.noalias() = G * P_.middleRows<3>(at);
+    Matrix3 P_tt;
+    P_tt.noalias() = rows.middleCols<3>(at) * G.transpose();
+    P_.middleRows<3>(at) = rows;
+    P_.middleCols<3>(at) = rows.transpose();
+    P_.block<3, 3>(at, at) = 0.5 * (P_tt + P_tt.transpose());
+  };
+  reset(kTheta);
+  for (int i = 0; params_.flat_feet && i < kFlatFeet; ++i) reset(rotationIndex(i));
 }
 
 void Eskf::initialiseFoot(int i, const ContactMeasurement& c) {
@@ -307,6 +364,19 @@ void Eskf::initialiseFoot(int i, const ContactMeasurement& c) {
   P_.middleRows<3>(d) = M;
   P_.middleCols<3>(d) = M.transpose();
   P_.block<3, 3>(d, d) = 0.5 * (P_dd + P_dd.transpose());
+  rotation_held_[i] = params_.flat_feet && c.R_body.has_value();  // flat: i < kFlatFeet
+  if (!rotation_held_[i]) return;
+  // A flat foot: R_F = R_hat Z, and dphi_i = Z^T dtheta - n (file comment, "Flat feet").
+  const Matrix3& Z = *c.R_body;
+  const int f = rotationIndex(i);
+  foot_R_[i] = lie::SO3d::fromQuaternion(Eigen::Quaterniond(R * Z));
+  Eigen::Matrix<double, 3, kDim> N;
+  N.noalias() = Z.transpose() * P_.middleRows<3>(kTheta);
+  Matrix3 P_ff = c.rot_cov;
+  P_ff.noalias() += N.middleCols<3>(kTheta) * Z;
+  P_.middleRows<3>(f) = N;
+  P_.middleCols<3>(f) = N.transpose();
+  P_.block<3, 3>(f, f) = 0.5 * (P_ff + P_ff.transpose());
 }
 
 void Eskf::step(const StepInput& raw) {
@@ -323,6 +393,10 @@ void Eskf::step(const StepInput& raw) {
     switch (updateFoot(c.foot, c, in.t, dx)) {
       case Update::kDone:
         updated = true;
+        if (rotation_held_[c.foot] && c.R_body &&
+            updateFootRotation(c.foot, c, in.t, dx) == Update::kFailed) {
+          health_.record(Fault::kUpdateFailed, in.t);
+        }
         break;
       case Update::kFailed:
         health_.record(Fault::kUpdateFailed, in.t);

@@ -31,6 +31,12 @@ struct FilterParams {
   // Whether stance feet may correct the heading (yaw and the gyro bias about the vertical):
   // false, the heading rule (the default: each filter's file comment); true, the plain filter.
   bool feet_correct_yaw = false;
+  // Flat feet (settings feet.flat and feet.rotation_stance_density; each filter's "Flat feet"):
+  // the ESKF also estimates each stance foot's orientation and uses the measured R_BF of its
+  // ContactMeasurement; at most two feet (a humanoid's). The InEKF, the TSIF and the linear KF
+  // use the feet as points.
+  bool flat_feet = false;
+  double foot_rotation_stance_density = 4e-3;  // [rad/sqrt(s)] (settings.hpp says why)
   // Prior of the state at reset (standard deviations; attitude per axis).
   double sigma_attitude = 0.01;    // [rad]
   double sigma_velocity = 0.05;    // [m/s]
@@ -59,6 +65,7 @@ inline void checkFilterParams(const FilterParams& p, const char* who, bool densi
   require(p.imu.accel_bias_random_walk, "accelerometer bias random walk", false);
   require(p.foot_stance_density, "foot_stance_density", densities_positive);
   require(p.foot_swing_density, "foot_swing_density", densities_positive);
+  require(p.foot_rotation_stance_density, "foot_rotation_stance_density", false);
   require(p.sigma_attitude, "prior sigma_attitude", true);
   require(p.sigma_velocity, "prior sigma_velocity", true);
   require(p.sigma_position, "prior sigma_position", true);

@@ -66,8 +66,10 @@ std::vector<int> kitColumns(const KDL::Chain& chain, const model::MujocoLegKinem
 
 }  // namespace
 
-TEST_CASE("Shipped robots: feet and Jacobians equal orocos-kdl's, the IMU pose the URDF's",
-          "[57.11][model][robot][mujoco]") {
+TEST_CASE(
+    "Shipped robots: feet, their orientations and Jacobians equal orocos-kdl's, the IMU pose the "
+    "URDF's",
+    "[57.11][model][robot][mujoco]") {
   std::mt19937 gen(2211);
   std::uniform_real_distribution<double> angle(-1.5, 1.5);
   for (const ShippedRobot& robot : kRobots) {
@@ -79,7 +81,7 @@ TEST_CASE("Shipped robots: feet and Jacobians equal orocos-kdl's, the IMU pose t
     const auto legs = model::MujocoLegKinematics::fromFile(r.model, r.base, r.feet, r.joints);
     const KDL::Tree tree = kdlTree(r.model);
 
-    double worst_p = 0.0, worst_J = 0.0;
+    double worst_p = 0.0, worst_J = 0.0, worst_R = 0.0, worst_Jw = 0.0;
     for (int f = 0; f < legs.numFeet(); ++f) {
       const KDL::Chain chain = kdlChain(tree, r.base, legs.footName(f));
       const std::vector<int> columns = kitColumns(chain, legs);
@@ -104,11 +106,29 @@ TEST_CASE("Shipped robots: feet and Jacobians equal orocos-kdl's, the IMU pose t
           J_ref.col(columns[i]) = J_kdl.data.block<3, 1>(0, static_cast<Eigen::Index>(i));
         }
         worst_J = std::max(worst_J, (J - J_ref).cwiseAbs().maxCoeff());
+
+        // The foot frame's orientation and rotational Jacobian (flat feet): KDL's M and the
+        // Jacobian's angular rows, both in the base's axes.
+        Eigen::Matrix3d R_BF;
+        model::FootJacobian J_w;
+        REQUIRE(legs.footRotation(f, q, R_BF, J_w));
+        const Eigen::Matrix3d R_kdl =
+            Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(frame.M.data);
+        worst_R = std::max(worst_R, (R_BF - R_kdl).cwiseAbs().maxCoeff());
+        J_ref.setZero();
+        for (std::size_t i = 0; i < columns.size(); ++i) {
+          J_ref.col(columns[i]) = J_kdl.data.block<3, 1>(3, static_cast<Eigen::Index>(i));
+        }
+        worst_Jw = std::max(worst_Jw, (J_w - J_ref).cwiseAbs().maxCoeff());
       }
     }
-    INFO("worst |p - p_KDL| " << std::scientific << worst_p << " m, |J - J_KDL| " << worst_J);
+    INFO("worst |p - p_KDL| " << std::scientific << worst_p << " m, |J - J_KDL| " << worst_J
+                              << ", |R_BF - R_KDL| " << worst_R << ", |J_w - J_w,KDL| "
+                              << worst_Jw);
     CHECK(worst_p < 1e-9);
     CHECK(worst_J < 1e-9);
+    CHECK(worst_R < 1e-9);
+    CHECK(worst_Jw < 1e-9);
 
     // The settings' IMU pose is the URDF's, at zero angles (the H1's IMU is behind a joint).
     const KDL::Chain to_imu = kdlChain(tree, r.base, robot.imu_link);

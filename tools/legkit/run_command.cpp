@@ -628,7 +628,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   const bool undetectable = !log.layout.joints && !log.layout.force && log.layout.contact;
   PipelineOptions pipeline_options;
   if (settings) {
-    noise = settings->frontend;
+    noise = frontendNoise(*settings);
     pipeline_options = settings->pipeline;
     pipeline_options.limits = settings->limits;
     if (!contact_.empty()) pipeline_options.contact = contact_;

@@ -1,0 +1,230 @@
+// Flat feet in the ESKF (section 57.5; estimation/invariant/eskf.hpp, "Flat feet") on a simulated
+// biped: feet 0 and 1 of the trot, which stand in turn as a walking biped's do. Each is given a
+// sole whose world orientation R_F stays fixed from its touchdown to its lift-off, measured
+// through the body as a robot's kinematics would: Z = R^T R_F Exp(n), n ~ N(0, sigma^2 I).
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "estimation/invariant/eskf.hpp"
+#include "estimation/invariant/invariant_ekf.hpp"
+#include "eval/consistency.hpp"
+#include "eval/metrics.hpp"
+#include "eval/runner.hpp"
+#include "filter_family.hpp"
+#include "trot_log.hpp"
+
+using namespace legkit;
+using legkit::test::normal3;
+
+namespace {
+
+constexpr double kSoleSigma = 0.002;  // [rad] the soles' measurement noise in these runs
+
+struct Biped {
+  std::vector<EstimateSample> truth;  // per row
+  std::vector<StepInput> inputs;      // feet 0 and 1 only, each with its sole's orientation
+  std::vector<std::array<std::optional<lie::SO3d>, 2>> sole;  // per row: R_F of a foot down
+};
+
+// `duration` s of the trot from `seed` with the biases `bias`, as the biped above.
+Biped bipedRun(unsigned seed, const model::ImuBias& bias, double duration = 5.0) {
+  const io::Log log = test::trotLog(duration, seed, false, bias);
+  const std::vector<StepInput> all = test::inputsOf(log, test::simulatorFrontend());
+  std::mt19937 gen(seed + 77);
+  // Each foot's sole sits turned against the body by a fixed rotation, as a real ankle's does.
+  const std::array<lie::SO3d, 2> mount = {lie::SO3d::Exp(Eigen::Vector3d(0.05, -0.1, 0.3)),
+                                          lie::SO3d::Exp(Eigen::Vector3d(-0.04, 0.08, -0.25))};
+  Biped b;
+  std::array<std::optional<lie::SO3d>, 2> down{};
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    const io::LogRow& row = log.rows[k];
+    b.truth.push_back({row.t, row.gt_q, row.gt_v, row.gt_p});
+    const lie::SO3d R = lie::SO3d::fromQuaternion(row.gt_q);
+    StepInput in = all[k];
+    in.num_contacts = 0;
+    std::array<std::optional<lie::SO3d>, 2> now{};
+    for (const ContactMeasurement& c : all[k].stance()) {
+      if (c.foot > 1) continue;
+      // R_F is placed at the touchdown and stays while the foot is down.
+      now[c.foot] = down[c.foot] ? *down[c.foot] : R * mount[c.foot];
+      ContactMeasurement m = c;
+      const Eigen::Matrix3d Z = R.matrix().transpose() * now[c.foot]->matrix();
+      m.R_body = Z * lie::SO3d::Exp(normal3(gen, kSoleSigma)).matrix();
+      m.rot_cov = kSoleSigma * kSoleSigma * Eigen::Matrix3d::Identity();
+      in.contacts[in.num_contacts++] = m;
+    }
+    down = now;
+    b.sole.push_back(now);
+    b.inputs.push_back(in);
+  }
+  return b;
+}
+
+invariant::EskfParams bipedParams(bool flat) {
+  invariant::EskfParams p;
+  p.flat_feet = flat;
+  p.foot_stance_density = 1e-4;           // the simulator's feet do not slip
+  p.foot_rotation_stance_density = 1e-4;  // nor do these soles turn
+  return p;
+}
+
+struct Errors {
+  std::vector<double> nees;   // per row, 9 dof
+  double tilt_rms = 0.0;      // roll and pitch [rad]
+  double sole_nees = 0.0;     // mean over the rows of a held sole of its 3-dof NEES
+  double bias_z = 0.0;        // the last row's gyro bias estimate about the body's z [rad/s]
+  double sigma_bias_z = 0.0;  // and its standard deviation
+};
+
+// One run from an initial error drawn from the filter's prior.
+Errors run(const Biped& b, const invariant::EskfParams& params, unsigned seed) {
+  std::mt19937 gen(seed);
+  EstimateSample x0 = b.truth.front();
+  x0.q = Eigen::Quaterniond(x0.q.toRotationMatrix() *
+                            lie::SO3d::Exp(-normal3(gen, params.sigma_attitude)).matrix());
+  x0.v -= normal3(gen, params.sigma_velocity);
+  x0.p -= normal3(gen, params.sigma_position);
+  invariant::Eskf filter(params);
+  filter.reset(x0);
+  Errors e;
+  double tilt2 = 0.0;
+  int sole_rows = 0;
+  for (std::size_t k = 0; k < b.inputs.size(); ++k) {
+    filter.step(b.inputs[k]);
+    const EstimateSample x = filter.estimate();
+    e.nees.push_back(eval::nees(b.truth[k], x, *filter.covariance()));
+    const double tilt = eval::tiltError(x.q.toRotationMatrix(), b.truth[k].q.toRotationMatrix());
+    tilt2 += tilt * tilt;
+    if (!params.flat_feet) continue;
+    for (int i = 0; i < 2; ++i) {
+      // The sole's error in the filter's local convention, R_F = R_F,hat Exp(dphi), against its
+      // block of P, once the foot has stood a second sample.
+      if (!b.sole[k][i] || !filter.inContact(i) || k == 0 || !b.sole[k - 1][i]) continue;
+      const Eigen::Vector3d dphi = b.sole[k][i]->rminus(filter.footRotation(i));
+      const int at = invariant::eskf::footIndex(invariant::eskf::kFlatFeet + i);
+      const Eigen::Matrix3d P = filter.P().block<3, 3>(at, at);
+      e.sole_nees += dphi.dot(P.ldlt().solve(dphi));
+      ++sole_rows;
+    }
+  }
+  e.tilt_rms = std::sqrt(tilt2 / b.inputs.size());
+  e.bias_z = filter.state().b_g.z();
+  const int z = invariant::eskf::kBg + 2;
+  e.sigma_bias_z = std::sqrt(filter.P()(z, z));
+  if (sole_rows > 0) e.sole_nees /= sole_rows;
+  return e;
+}
+
+}  // namespace
+
+TEST_CASE("Flat feet: the ESKF's base and soles stay consistent over a Monte Carlo of runs",
+          "[57.5][eskf][flat-feet]") {
+  constexpr int kRuns = 20;
+  const invariant::EskfParams params = bipedParams(true);
+  std::vector<double> anees;
+  double sole_nees = 0.0;
+  for (int j = 0; j < kRuns; ++j) {
+    std::mt19937 gen(500 + j);
+    model::ImuBias bias;
+    bias.b_g = normal3(gen, params.sigma_gyro_bias);
+    bias.b_a = normal3(gen, params.sigma_accel_bias);
+    const Errors e = run(bipedRun(1 + j, bias), params, 900 + j);
+    if (anees.empty()) anees.assign(e.nees.size(), 0.0);
+    for (std::size_t k = 0; k < anees.size(); ++k) anees[k] += e.nees[k] / kRuns;
+    sole_nees += e.sole_nees / kRuns;
+  }
+  const eval::ChiSquareBounds bounds = eval::aneesBounds(9, kRuns);
+  double mean = 0.0;
+  int inside = 0;
+  for (const double a : anees) {
+    mean += a / anees.size();
+    inside += a >= bounds.lower && a <= bounds.upper;
+  }
+  INFO("base ANEES per dof " << mean / 9 << ", bounds [" << bounds.lower / 9 << ", "
+                             << bounds.upper / 9 << "], " << 100.0 * inside / anees.size()
+                             << " % of rows inside; the soles' NEES per dof " << sole_nees / 3);
+  CHECK(mean >= bounds.lower);
+  CHECK(mean <= bounds.upper);
+  // The soles' own errors against their block of P: 3 dof, about 1 per dof.
+  CHECK(sole_nees / 3 > 0.5);
+  CHECK(sole_nees / 3 < 2.0);
+}
+
+TEST_CASE("Flat feet: the soles learn the gyro bias about the vertical that point feet may not",
+          "[57.5][eskf][flat-feet][heading]") {
+  // A turn-on bias of 0.005 rad/s about the body's z (a MEMS gyro's, 0.3 deg/s; 2.5 sigma of
+  // the filters' prior): with point feet the heading rule leaves the heading to the gyro, which
+  // drifts with the bias; a standing sole shows the body's rotation against a foot that does not
+  // turn, and the ESKF learns it. Slowly: a stance of 0.2 s sees 1 mrad of it, as much as the
+  // gyro's own noise over that time (measured: 5 runs of 5 s, bias error 3.3e-3 rad/s against
+  // the point feet's 5.0e-3, sigma 1.4e-3 against the prior's 2.0e-3).
+  constexpr double kBias = 0.005;
+  double flat = 0.0, point = 0.0, tilt_flat = 0.0, tilt_point = 0.0, sigma_flat = 0.0,
+         sigma_point = 0.0;
+  constexpr int kRuns = 5;
+  for (int j = 0; j < kRuns; ++j) {
+    model::ImuBias bias;
+    bias.b_g = Eigen::Vector3d(0.0, 0.0, kBias);
+    const Biped b = bipedRun(40 + j, bias);
+    const Errors f = run(b, bipedParams(true), 60 + j);
+    const Errors p = run(b, bipedParams(false), 60 + j);
+    flat += std::abs(f.bias_z - kBias) / kRuns;
+    point += std::abs(p.bias_z - kBias) / kRuns;
+    sigma_flat += f.sigma_bias_z / kRuns;
+    sigma_point += p.sigma_bias_z / kRuns;
+    tilt_flat += f.tilt_rms / kRuns;
+    tilt_point += p.tilt_rms / kRuns;
+  }
+  INFO("gyro bias error about z after 5 s: flat feet "
+       << flat << " rad/s, point feet " << point << " rad/s; sigma " << sigma_flat << " / "
+       << sigma_point << " rad/s; tilt RMS " << tilt_flat << " / " << tilt_point << " rad");
+  CHECK(flat < 0.8 * point);
+  CHECK(sigma_flat < 0.8 * sigma_point);
+  CHECK(sigma_point > 0.99 * bipedParams(false).sigma_gyro_bias);  // the heading rule's
+  CHECK(tilt_flat < tilt_point);
+}
+
+TEST_CASE("Flat feet: a third foot has no slot, a sole that is no rotation is refused",
+          "[57.5][eskf][flat-feet]") {
+  const Biped b = bipedRun(3, model::ImuBias{}, 1.5);
+  invariant::Eskf filter(bipedParams(true));
+  filter.reset(b.truth.front());
+  std::size_t k = 0;
+  for (; k + 1 < b.inputs.size() && b.inputs[k].num_contacts < 1; ++k) filter.step(b.inputs[k]);
+  StepInput in = b.inputs[k];
+  REQUIRE(in.num_contacts >= 1);
+
+  StepInput spoiled = in;
+  spoiled.contacts[0].R_body = 1.1 * *in.contacts[0].R_body;
+  CHECK_THROWS_WITH(filter.step(spoiled),
+                    Catch::Contains("orientation R_body is not a rotation matrix"));
+  spoiled = in;
+  spoiled.contacts[0].rot_cov(0, 0) = -1.0;
+  CHECK_THROWS_WITH(filter.step(spoiled),
+                    Catch::Contains("orientation covariance is not positive definite"));
+
+  // A quadruped's third foot: two flat feet fill the filter; the third is left out, and said.
+  StepInput three = in;
+  for (int foot = 0; foot < 3; ++foot) {
+    if (foot < three.num_contacts) {
+      three.contacts[foot].foot = foot;
+    } else {
+      three.contacts[three.num_contacts] = three.contacts[0];
+      three.contacts[three.num_contacts++].foot = foot;
+    }
+  }
+  filter.step(three);
+  CHECK(filter.health()[Fault::kNoFootSlot] > 0);
+}
+
+TEST_CASE("Flat feet need a model of the robot's feet: points are refused by the front end",
+          "[57.5][flat-feet]") {
+  const io::Log log = test::trotLog(0.2, 1, true);
+  FrontendNoise noise;
+  noise.foot_rotations = true;
+  CHECK_THROWS_WITH(LogFrontend(log.layout, model::QuadrupedKinematics(), noise),
+                    Catch::Contains("feet.flat"));
+}
