@@ -87,6 +87,15 @@ using Vector3 = Eigen::Vector3d;
 using inekf::Covariance;
 using inekf::Discretisation;
 
+// A sole's rotation while its foot is off the ground is not held; p_c < 1 softens its random walk
+// towards this swing density [rad/sqrt(s)] (the ESKF's), the p_c = 0 end of a soft contact (57.6).
+constexpr double kFootRotationSwingDensity = 1.0;
+
+// The rotation matrix nearest to M (through its quaternion): a product of rotations, rounded.
+Matrix3 rotationOf(const Matrix3& M) {
+  return Eigen::Quaterniond(M).normalized().toRotationMatrix();
+}
+
 // T of e = -T xi (file comment): e = (dtheta, dv, dp), xi = (phi, rho_v, rho_p).
 Eigen::Matrix<double, 9, 9> xiToBase(const Vector3& v, const Vector3& p) {
   Eigen::Matrix<double, 9, 9> T = Eigen::Matrix<double, 9, 9>::Identity();
@@ -115,7 +124,8 @@ InvariantEkfParams InvariantEkfParams::hartleyExample() {
 InvariantEkf::InvariantEkf(const InvariantEkfParams& params)
     : params_(params),
       gate_(params.gating, "InvariantEkf"),
-      pose_gate_(fusion::poseGateThreshold(params.gating)) {
+      pose_gate_(fusion::poseGateThreshold(params.gating)),
+      slots_(params.flat_feet ? inekf::kMaxFlatFeet : inekf::kMaxFeet) {
   checkFilterParams(params, "InvariantEkf", false);  // zero densities: exact legs, constant bias
   reset(EstimateSample{});
 }
@@ -128,6 +138,9 @@ void InvariantEkf::reset(const EstimateSample& x0) {
   b_a_.setZero();
   column_of_foot_.fill(-1);
   probability_.fill(0.0);
+  rotation_of_foot_.fill(-1);
+  foot_R_.fill(Matrix3::Identity());
+  num_rotations_ = 0;
   t_ = x0.t;
   previous_ = model::ImuReading{};
   has_previous_ = false;
@@ -195,6 +208,28 @@ void withFeet(int n, F&& f) {
 
 }  // namespace
 
+template <typename F>
+void InvariantEkf::dispatch(F&& f) {
+  using Zero = std::integral_constant<int, 0>;
+  using One = std::integral_constant<int, 1>;
+  using Two = std::integral_constant<int, 2>;
+  static_assert(inekf::kMaxFlatFeet == 2, "the soles' dispatch below");
+  if (num_rotations_ == 0) {
+    withFeet(numFeet(), [&](auto feet) { f(feet, Zero{}); });
+  } else if (numFeet() == 1) {  // a sole is held with its foot's column: m <= n <= 2
+    f(One{}, One{});
+  } else if (num_rotations_ == 1) {
+    f(Two{}, One{});
+  } else {
+    f(Two{}, Two{});
+  }
+}
+
+int InvariantEkf::rotationIndexOf(int foot) const {
+  const int k = rotation_of_foot_[foot];
+  return k < 0 ? -1 : navDim() + 6 + 3 * k;
+}
+
 void InvariantEkf::propagate(double dt) {
   const Vector3 w = previous_.w_m - b_g_;  // bias-corrected rate
   const Vector3 a = previous_.a_m - b_a_;  // bias-corrected specific force
@@ -202,14 +237,17 @@ void InvariantEkf::propagate(double dt) {
   const Discretisation mode = params_.discretisation;
   const Group X_next = inekf::propagateMean(X_, w, a, g, dt, mode);
   const inekf::Transition Phi = inekf::transition(X_, X_next, w, a, g, dt, mode);
-  withFeet(numFeet(), [&](auto feet) { propagateCovariance<decltype(feet)::value>(Phi, dt); });
+  dispatch([&](auto feet, auto rots) {
+    propagateCovariance<decltype(feet)::value, decltype(rots)::value>(Phi, dt);
+  });
   X_ = X_next;
 }
 
-template <int Feet>
+template <int Feet, int Rots>
 void InvariantEkf::propagateCovariance(const inekf::Transition& Phi, double dt) {
   constexpr int Nav = 9 + 3 * Feet;
-  constexpr int D = Nav + 6;
+  constexpr int Tail = 6 + 3 * Rots;  // the biases, then the soles' rotations
+  constexpr int D = Nav + Tail;
   Eigen::Map<Eigen::Matrix<double, D, D>> P(P_.data());
   const Eigen::Map<const Eigen::Matrix<double, Nav, 6>> B(Phi.B.data());
   const bool exact = params_.discretisation == Discretisation::kExact;
@@ -224,6 +262,14 @@ void InvariantEkf::propagateCovariance(const inekf::Transition& Phi, double dt) 
     var_d[col - 2] = contact::softFootNoiseDensity(probability_[foot], params_.foot_stance_density,
                                                    params_.foot_swing_density);
   }
+  // sigma_F^2 of the sole k: its random walk in stance, softened by its foot's p_c
+  std::array<double, inekf::kMaxFlatFeet> var_r{};
+  for (int foot = 0; Rots > 0 && foot < inekf::kMaxFeet; ++foot) {
+    const int k = rotation_of_foot_[foot];
+    if (k < 0) continue;
+    var_r[k] = contact::softFootNoiseDensity(
+        probability_[foot], params_.foot_rotation_stance_density, kFootRotationSwingDensity);
+  }
   const auto addDiagonal = [&](int at, double variance) {
     P.template block<3, 3>(at, at).diagonal().array() += variance;
   };
@@ -231,6 +277,7 @@ void InvariantEkf::propagateCovariance(const inekf::Transition& Phi, double dt) 
     for (int i = 0; i < Feet; ++i) addDiagonal(9 + 3 * i, var_d[i] * dt);  // slip random walk
     addDiagonal(Nav, n.gyro_bias_random_walk * n.gyro_bias_random_walk * dt);
     addDiagonal(Nav + 3, n.accel_bias_random_walk * n.accel_bias_random_walk * dt);
+    for (int k = 0; k < Rots; ++k) addDiagonal(Nav + 6 + 3 * k, var_r[k] * dt);  // soles
   };
 
   if (!exact) {
@@ -246,13 +293,14 @@ void InvariantEkf::propagateCovariance(const inekf::Transition& Phi, double dt) 
     addFootAndBiasNoise();
   }
 
-  // P <- Phi P Phi^T with Phi = [[N, B], [0, I]] (header): rows first (M = Phi P), in an order
-  // that reads each source row before it is overwritten, then the columns of M's navigation
-  // rows; the bias rows follow by symmetry. The blocks read and written never overlap.
+  // P <- Phi P Phi^T with Phi = [[N, B, 0], [0, I, 0], [0, 0, I]] on (xi, zeta, phi_F) (header):
+  // rows first (M = Phi P), in an order that reads each source row before it is overwritten, then
+  // the columns of M's navigation rows; the bias and sole rows follow by symmetry. The blocks read
+  // and written never overlap.
   P.template middleRows<3>(6) += Phi.p_v * P.template middleRows<3>(3);
   if (exact) P.template middleRows<3>(6) += Phi.p_phi.lazyProduct(P.template topRows<3>());
   P.template middleRows<3>(3) += Phi.v_phi.lazyProduct(P.template topRows<3>());
-  P.template topRows<Nav>() += B.lazyProduct(P.template bottomRows<6>());
+  P.template topRows<Nav>() += B.lazyProduct(P.template middleRows<6>(Nav));
 
   auto Pnav = P.template topLeftCorner<Nav, Nav>();
   Pnav.template middleCols<3>(6) += Phi.p_v * Pnav.template middleCols<3>(3);
@@ -263,21 +311,23 @@ void InvariantEkf::propagateCovariance(const inekf::Transition& Phi, double dt) 
   Pnav.template middleCols<3>(3) += Pnav.template leftCols<3>().lazyProduct(Phi.v_phi.transpose());
   // The bias columns of M times B^T; for kExact, Q_d = B diag(sigma_g^2, sigma_a^2) B^T / dt (the
   // white noise's mean over dt enters like the bias error) joins the same product.
-  Eigen::Matrix<double, Nav, 6> MB = P.template topRightCorner<Nav, 6>();
+  Eigen::Matrix<double, Nav, 6> MB = P.template block<Nav, 6>(0, Nav);
   if (exact) {
     Eigen::Matrix<double, 6, 1> q;
     q << Vector3::Constant(var_g / dt), Vector3::Constant(var_a / dt);
     MB += B * q.asDiagonal();
   }
   Pnav += MB.lazyProduct(B.transpose());
-  P.template bottomLeftCorner<6, Nav>() = P.template topRightCorner<Nav, 6>().transpose();
+  P.template bottomLeftCorner<Tail, Nav>() = P.template topRightCorner<Nav, Tail>().transpose();
   if (exact) addFootAndBiasNoise();
   Pnav = 0.5 * (Pnav + Pnav.transpose()).eval();  // rounding only
 }
 
 void InvariantEkf::correct(const StepInput& in) {
   const Matrix3 R_predicted = X_.R();  // before this sample's correction
-  withFeet(numFeet(), [&](auto feet) { correctHeldFeet<decltype(feet)::value>(in); });
+  dispatch([&](auto feet, auto rots) {
+    correctHeldFeet<decltype(feet)::value, decltype(rots)::value>(in);
+  });
   nis_windows_.endStep(innovations_);
   std::array<bool, inekf::kMaxFeet> stance{};
   for (const ContactMeasurement& c : in.stance()) stance[c.foot] = true;
@@ -290,15 +340,20 @@ void InvariantEkf::correct(const StepInput& in) {
   const bool predicted = params_.touchdown_attitude == inekf::TouchdownAttitude::kPredicted;
   const Matrix3 R_touchdown = predicted ? R_predicted : X_.R();
   for (const ContactMeasurement& c : in.stance()) {
-    if (column_of_foot_[c.foot] < 0) addFoot(c, R_touchdown);
+    if (column_of_foot_[c.foot] < 0) {
+      addFoot(c, R_touchdown);
+      // A sole: with the corrected attitude always (file comment, "Flat feet").
+      if (params_.flat_feet && c.R_body && num_rotations_ < inekf::kMaxFlatFeet)
+        addRotation(c, X_.R());
+    }
     probability_[c.foot] = c.probability;
   }
 }
 
-template <int Feet>
+template <int Feet, int Rots>
 void InvariantEkf::correctHeldFeet(const StepInput& in) {
   constexpr int Nav = 9 + 3 * Feet;
-  constexpr int D = Nav + 6;
+  constexpr int D = Nav + 6 + 3 * Rots;
   Eigen::Map<Eigen::Matrix<double, D, D>> P(P_.data());
   const Matrix3 R = X_.R();  // the predicted attitude: every foot is linearised here
   const Vector3 p = X_.col(1);
@@ -353,29 +408,68 @@ void InvariantEkf::correctHeldFeet(const StepInput& in) {
       for (int c = 1; c < Nav / 3 - 1; ++c) EW.template middleRows<3>(3 + 3 * c) = p_turned * psi;
       const Vector3 up = R.row(2).transpose();
       EW.template middleRows<3>(Nav) = up * (up.transpose() * W.template middleRows<3>(Nav));
+      // and e_z on each held sole's rotation (world frame, as the attitude)
+      for (int k = 0; k < Rots; ++k) EW.template middleRows<1>(Nav + 8 + 3 * k) = psi;
       delta += (W - EW) * nu_white;
       P -= W.lazyProduct(W.transpose()) - EW.lazyProduct(EW.transpose());
     }
     corrected = true;
+    if constexpr (Rots > 0) {
+      if (rotation_of_foot_[c.foot] >= 0 && c.R_body) {
+        // Its sole (file comment, "Flat feet"): r = Log(R_hat Z R_F,hat^T), H = [-I (phi), +I
+        // (phi_F)], N = R_F,hat rot_cov R_F,hat^T; not under the heading rule, not gated.
+        const int f = Nav + 6 + 3 * rotation_of_foot_[c.foot];
+        const Matrix3& R_F = foot_R_[c.foot];
+        const Vector3 r =
+            lie::SO3d::fromQuaternion(Eigen::Quaterniond(R * *c.R_body * R_F.transpose())).Log();
+        const Vector3 nu_F =
+            r - (delta.template segment<3>(f) - delta.template segment<3>(0));  // sequential
+        const Eigen::Matrix<double, D, 3> U_F =
+            P.template middleCols<3>(f) - P.template leftCols<3>();  // P H^T
+        const Matrix3 S_F = U_F.template middleRows<3>(f) - U_F.template topRows<3>() +
+                            R_F * c.rot_cov * R_F.transpose();
+        const Eigen::LLT<Matrix3> llt_F(S_F);
+        if (llt_F.info() != Eigen::Success) {
+          health_.record(Fault::kUpdateFailed, in.t);
+          continue;
+        }
+        const Matrix3 C_F_inv = llt_F.matrixL().solve(Matrix3::Identity());
+        const Eigen::Matrix<double, D, 3> W_F = U_F * C_F_inv.transpose();
+        delta += W_F * (C_F_inv * nu_F);
+        P -= W_F.lazyProduct(W_F.transpose());
+      }
+    }
   }
   if (!corrected) return;
   X_ = Group::Exp(Group::Tangent(delta.template head<Nav>())) * X_;  // X_hat <- Exp(delta) X_hat
   b_g_ += delta.template segment<3>(Nav);
   b_a_ += delta.template segment<3>(Nav + 3);
+  if constexpr (Rots > 0) moveSoles(delta.template segment<3 * Rots>(Nav + 6));
+}
+
+void InvariantEkf::moveSoles(const Eigen::Ref<const Eigen::VectorXd>& delta_soles) {
+  for (int foot = 0; foot < inekf::kMaxFeet; ++foot) {  // R_F,hat <- Exp(delta_phiF) R_F,hat
+    const int k = rotation_of_foot_[foot];
+    if (k < 0) continue;
+    foot_R_[foot] =
+        rotationOf(lie::SO3d::Exp(Vector3(delta_soles.segment<3>(3 * k))).matrix() * foot_R_[foot]);
+  }
 }
 
 fusion::PoseUpdate InvariantEkf::updatePose(const fusion::PoseMeasurement& z) {
   fusion::checkPoseMeasurement(z, "InvariantEkf");
   if (!z.valid) return fusion::PoseUpdate::kNotValid;
   fusion::PoseUpdate result = fusion::PoseUpdate::kFailed;
-  withFeet(numFeet(), [&](auto feet) { result = correctPose<decltype(feet)::value>(z); });
+  dispatch([&](auto feet, auto rots) {
+    result = correctPose<decltype(feet)::value, decltype(rots)::value>(z);
+  });
   return result;
 }
 
-template <int Feet>
+template <int Feet, int Rots>
 fusion::PoseUpdate InvariantEkf::correctPose(const fusion::PoseMeasurement& z) {
   constexpr int Nav = 9 + 3 * Feet;
-  constexpr int D = Nav + 6;
+  constexpr int D = Nav + 6 + 3 * Rots;
   using Matrix6 = Eigen::Matrix<double, 6, 6>;
   using Vector6 = Eigen::Matrix<double, 6, 1>;
   Eigen::Map<Eigen::Matrix<double, D, D>> P(P_.data());
@@ -417,21 +511,30 @@ fusion::PoseUpdate InvariantEkf::correctPose(const fusion::PoseMeasurement& z) {
   X_ = Group::Exp(Group::Tangent(delta.template head<Nav>())) * X_;  // X_hat <- Exp(delta) X_hat
   b_g_ += delta.template segment<3>(Nav);
   b_a_ += delta.template segment<3>(Nav + 3);
+  if constexpr (Rots > 0) moveSoles(delta.template segment<3 * Rots>(Nav + 6));
   return fusion::PoseUpdate::kUsed;
 }
 
-void InvariantEkf::removeFoot(int foot) {
-  const int col = column_of_foot_[foot];
-  const int at = 3 + 3 * col;  // its rows and columns in P
-  const int n = static_cast<int>(P_.rows());
+namespace {
+
+// Marginalising a Gaussian: P without the rows and columns at..at+2.
+void removeRowsAndColumns(Covariance& P, int at) {
+  const int n = static_cast<int>(P.rows());
   const int tail = n - at - 3;
-  // Marginalising a Gaussian: drop the rows and columns.
   Covariance Pm(n - 3, n - 3);
-  Pm.topLeftCorner(at, at) = P_.topLeftCorner(at, at);
-  Pm.topRightCorner(at, tail) = P_.topRightCorner(at, tail);
-  Pm.bottomLeftCorner(tail, at) = P_.bottomLeftCorner(tail, at);
-  Pm.bottomRightCorner(tail, tail) = P_.bottomRightCorner(tail, tail);
-  P_ = Pm;
+  Pm.topLeftCorner(at, at) = P.topLeftCorner(at, at);
+  Pm.topRightCorner(at, tail) = P.topRightCorner(at, tail);
+  Pm.bottomLeftCorner(tail, at) = P.bottomLeftCorner(tail, at);
+  Pm.bottomRightCorner(tail, tail) = P.bottomRightCorner(tail, tail);
+  P = Pm;
+}
+
+}  // namespace
+
+void InvariantEkf::removeFoot(int foot) {
+  if (rotation_of_foot_[foot] >= 0) removeRotation(foot);  // its sole first (indices after nav)
+  const int col = column_of_foot_[foot];
+  removeRowsAndColumns(P_, 3 + 3 * col);  // its rows and columns in P
   X_.removeColumn(col);
   column_of_foot_[foot] = -1;
   for (int& c : column_of_foot_) {
@@ -439,24 +542,49 @@ void InvariantEkf::removeFoot(int foot) {
   }
 }
 
+void InvariantEkf::removeRotation(int foot) {
+  const int k = rotation_of_foot_[foot];
+  removeRowsAndColumns(P_, navDim() + 6 + 3 * k);
+  rotation_of_foot_[foot] = -1;
+  for (int& j : rotation_of_foot_) {
+    if (j > k) --j;
+  }
+  --num_rotations_;
+}
+
 void InvariantEkf::addFoot(const ContactMeasurement& c, const Matrix3& R) {
   const int col = static_cast<int>(X_.numCols());
   const int at = 3 + 3 * col;  // = the navigation dimension before the new column
   const int n = static_cast<int>(P_.rows());
+  const int tail = n - at;  // the biases and the soles' rotations
   // rho_d = rho_p + R_hat n: the new rows copy rho_p's, plus R_hat Cov R_hat^T on the diagonal.
   Covariance Pa(n + 3, n + 3);
   Pa.topLeftCorner(at, at) = P_.topLeftCorner(at, at);
-  Pa.topRightCorner(at, 6) = P_.topRightCorner(at, 6);
-  Pa.bottomLeftCorner(6, at) = P_.bottomLeftCorner(6, at);
-  Pa.bottomRightCorner<6, 6>() = P_.bottomRightCorner<6, 6>();
+  Pa.topRightCorner(at, tail) = P_.topRightCorner(at, tail);
+  Pa.bottomLeftCorner(tail, at) = P_.bottomLeftCorner(tail, at);
+  Pa.bottomRightCorner(tail, tail) = P_.bottomRightCorner(tail, tail);
   Pa.block(0, at, at, 3) = P_.block(0, 6, at, 3);
-  Pa.block(at + 3, at, 6, 3) = P_.block(at, 6, 6, 3);
+  Pa.block(at + 3, at, tail, 3) = P_.block(at, 6, tail, 3);
   Pa.block(at, 0, 3, at) = P_.block(6, 0, 3, at);
-  Pa.block(at, at + 3, 3, 6) = P_.block(6, at, 3, 6);
+  Pa.block(at, at + 3, 3, tail) = P_.block(6, at, 3, tail);
   Pa.block<3, 3>(at, at) = P_.block<3, 3>(6, 6) + R * c.cov * R.transpose();
   P_ = Pa;
   X_.appendColumn(X_.col(1) + R * c.p_body);  // d = p_hat + R_hat y
   column_of_foot_[c.foot] = col;
+}
+
+void InvariantEkf::addRotation(const ContactMeasurement& c, const Matrix3& R) {
+  // R_F,hat = R_hat Z and phi_F = phi + R_F n: the new rows copy phi's, plus N (file comment).
+  const Matrix3 R_F = rotationOf(R * *c.R_body);
+  const int n = static_cast<int>(P_.rows());
+  Covariance Pa(n + 3, n + 3);
+  Pa.topLeftCorner(n, n) = P_;
+  Pa.bottomLeftCorner(3, n) = P_.topRows<3>();
+  Pa.topRightCorner(n, 3) = P_.leftCols<3>();
+  Pa.bottomRightCorner<3, 3>() = P_.topLeftCorner<3, 3>() + R_F * c.rot_cov * R_F.transpose();
+  P_ = Pa;
+  foot_R_[c.foot] = R_F;
+  rotation_of_foot_[c.foot] = num_rotations_++;
 }
 
 EstimateSample InvariantEkf::estimate() const {

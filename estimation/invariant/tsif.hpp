@@ -78,8 +78,8 @@
 // base), and the new information is that of the ESKF's Joseph covariance P_opt + V C V^T, where
 // C = B^T (P_pred - P_opt) B is the 2 x 2 the feet would have taken from the heading: by the
 // inversion lemma, Lambda = Lambda_opt - Lambda_opt V C (I + V^T Lambda_opt V C)^-1 V^T Lambda_opt,
-// two 27 x 27 solves with two right-hand sides. With one iteration the TSIF then still equals
-// the ESKF (physics-real: the same 0.092 m and 1.44 deg).
+// one 27 x 27 solve with two right-hand sides (P_pred's B from the marginal's own factor). With
+// one iteration the TSIF then still equals the ESKF (physics-real: the same 0.092 m and 1.44 deg).
 //
 // Gating (section 57.9, GatingParams, off by default). The TSIF has no innovation in the EKF's
 // sense: the kinematics residual is one term of a joint solve. Its stand-in is the residual at the

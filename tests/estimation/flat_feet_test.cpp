@@ -1,11 +1,13 @@
-// Flat feet in the ESKF (section 57.5; estimation/invariant/eskf.hpp, "Flat feet") on a simulated
-// biped: feet 0 and 1 of the trot, which stand in turn as a walking biped's do. Each is given a
-// sole whose world orientation R_F stays fixed from its touchdown to its lift-off, measured
-// through the body as a robot's kinematics would: Z = R^T R_F Exp(n), n ~ N(0, sigma^2 I).
+// Flat feet in the ESKF and the InEKF (section 57.5; the "Flat feet" paragraphs of
+// estimation/invariant/eskf.hpp and invariant_ekf.hpp) on a simulated biped: feet 0 and 1 of the
+// trot, which stand in turn as a walking biped's do. Each is given a sole whose world orientation
+// R_F stays fixed from its touchdown to its lift-off, measured through the body as a robot's
+// kinematics would: Z = R^T R_F Exp(n), n ~ N(0, sigma^2 I).
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 #include <stdexcept>
+#include <tuple>
 #include <vector>
 
 #include "estimation/invariant/eskf.hpp"
@@ -63,8 +65,48 @@ Biped bipedRun(unsigned seed, const model::ImuBias& bias, double duration = 5.0)
   return b;
 }
 
-invariant::EskfParams bipedParams(bool flat) {
-  invariant::EskfParams p;
+// What the tests read of each filter, each in its own error convention: a held sole's error and
+// its block of P, and the gyro bias about the body's z with its standard deviation.
+struct SoleError {
+  Eigen::Vector3d error;
+  Eigen::Matrix3d P;
+};
+
+struct EskfFlat {
+  using Filter = invariant::Eskf;
+  using Params = invariant::EskfParams;
+  // R_F = R_F,hat Exp(dphi): local, as the attitude.
+  static std::optional<SoleError> sole(const Filter& f, int i, const lie::SO3d& R_F) {
+    if (!f.inContact(i)) return std::nullopt;
+    const int at = invariant::eskf::footIndex(invariant::eskf::kFlatFeet + i);
+    return SoleError{R_F.rminus(f.footRotation(i)), f.P().block<3, 3>(at, at)};
+  }
+  static std::pair<double, double> biasZ(const Filter& f) {
+    const int z = invariant::eskf::kBg + 2;
+    return {f.state().b_g.z(), std::sqrt(f.P()(z, z))};
+  }
+};
+
+struct InekfFlat {
+  using Filter = invariant::InvariantEkf;
+  using Params = invariant::InvariantEkfParams;
+  // R_F,hat = Exp(phi_F) R_F: right-invariant, beside the group.
+  static std::optional<SoleError> sole(const Filter& f, int i, const lie::SO3d& R_F) {
+    const int at = f.rotationIndexOf(i);
+    if (at < 0) return std::nullopt;
+    const Eigen::Matrix3d E = f.footRotation(i) * R_F.matrix().transpose();  // R_F,hat R_F^T
+    return SoleError{lie::SO3d::fromQuaternion(Eigen::Quaterniond(E)).Log(),
+                     f.P().block<3, 3>(at, at)};
+  }
+  static std::pair<double, double> biasZ(const Filter& f) {
+    const int z = 3 + 3 * static_cast<int>(f.X().numCols()) + 2;  // b_g after xi
+    return {f.b_g().z(), std::sqrt(f.P()(z, z))};
+  }
+};
+
+template <class Flat>
+typename Flat::Params bipedParams(bool flat) {
+  typename Flat::Params p;
   p.flat_feet = flat;
   p.foot_stance_density = 1e-4;           // the simulator's feet do not slip
   p.foot_rotation_stance_density = 1e-4;  // nor do these soles turn
@@ -79,15 +121,17 @@ struct Errors {
   double sigma_bias_z = 0.0;  // and its standard deviation
 };
 
-// One run from an initial error drawn from the filter's prior.
-Errors run(const Biped& b, const invariant::EskfParams& params, unsigned seed) {
+// One run from an initial error drawn from the filter's prior (isotropic: the same draw serves a
+// local and a world-frame attitude error).
+template <class Flat>
+Errors run(const Biped& b, const typename Flat::Params& params, unsigned seed) {
   std::mt19937 gen(seed);
   EstimateSample x0 = b.truth.front();
   x0.q = Eigen::Quaterniond(x0.q.toRotationMatrix() *
                             lie::SO3d::Exp(-normal3(gen, params.sigma_attitude)).matrix());
   x0.v -= normal3(gen, params.sigma_velocity);
   x0.p -= normal3(gen, params.sigma_position);
-  invariant::Eskf filter(params);
+  typename Flat::Filter filter(params);
   filter.reset(x0);
   Errors e;
   double tilt2 = 0.0;
@@ -100,30 +144,26 @@ Errors run(const Biped& b, const invariant::EskfParams& params, unsigned seed) {
     tilt2 += tilt * tilt;
     if (!params.flat_feet) continue;
     for (int i = 0; i < 2; ++i) {
-      // The sole's error in the filter's local convention, R_F = R_F,hat Exp(dphi), against its
-      // block of P, once the foot has stood a second sample.
-      if (!b.sole[k][i] || !filter.inContact(i) || k == 0 || !b.sole[k - 1][i]) continue;
-      const Eigen::Vector3d dphi = b.sole[k][i]->rminus(filter.footRotation(i));
-      const int at = invariant::eskf::footIndex(invariant::eskf::kFlatFeet + i);
-      const Eigen::Matrix3d P = filter.P().block<3, 3>(at, at);
-      e.sole_nees += dphi.dot(P.ldlt().solve(dphi));
+      // The sole's error against its block of P, once the foot has stood a second sample.
+      if (!b.sole[k][i] || k == 0 || !b.sole[k - 1][i]) continue;
+      const std::optional<SoleError> sole = Flat::sole(filter, i, *b.sole[k][i]);
+      if (!sole) continue;
+      e.sole_nees += sole->error.dot(sole->P.ldlt().solve(sole->error));
       ++sole_rows;
     }
   }
   e.tilt_rms = std::sqrt(tilt2 / b.inputs.size());
-  e.bias_z = filter.state().b_g.z();
-  const int z = invariant::eskf::kBg + 2;
-  e.sigma_bias_z = std::sqrt(filter.P()(z, z));
+  std::tie(e.bias_z, e.sigma_bias_z) = Flat::biasZ(filter);
   if (sole_rows > 0) e.sole_nees /= sole_rows;
   return e;
 }
 
 }  // namespace
 
-TEST_CASE("Flat feet: the ESKF's base and soles stay consistent over a Monte Carlo of runs",
-          "[57.5][eskf][flat-feet]") {
+TEMPLATE_TEST_CASE("Flat feet: the base and the soles stay consistent over a Monte Carlo of runs",
+                   "[57.5][eskf][inekf][flat-feet]", EskfFlat, InekfFlat) {
   constexpr int kRuns = 20;
-  const invariant::EskfParams params = bipedParams(true);
+  const auto params = bipedParams<TestType>(true);
   std::vector<double> anees;
   double sole_nees = 0.0;
   for (int j = 0; j < kRuns; ++j) {
@@ -131,7 +171,7 @@ TEST_CASE("Flat feet: the ESKF's base and soles stay consistent over a Monte Car
     model::ImuBias bias;
     bias.b_g = normal3(gen, params.sigma_gyro_bias);
     bias.b_a = normal3(gen, params.sigma_accel_bias);
-    const Errors e = run(bipedRun(1 + j, bias), params, 900 + j);
+    const Errors e = run<TestType>(bipedRun(1 + j, bias), params, 900 + j);
     if (anees.empty()) anees.assign(e.nees.size(), 0.0);
     for (std::size_t k = 0; k < anees.size(); ++k) anees[k] += e.nees[k] / kRuns;
     sole_nees += e.sole_nees / kRuns;
@@ -153,14 +193,15 @@ TEST_CASE("Flat feet: the ESKF's base and soles stay consistent over a Monte Car
   CHECK(sole_nees / 3 < 2.0);
 }
 
-TEST_CASE("Flat feet: the soles learn the gyro bias about the vertical that point feet may not",
-          "[57.5][eskf][flat-feet][heading]") {
+TEMPLATE_TEST_CASE(
+    "Flat feet: the soles learn the gyro bias about the vertical that point feet may not",
+    "[57.5][eskf][inekf][flat-feet][heading]", EskfFlat, InekfFlat) {
   // A turn-on bias of 0.005 rad/s about the body's z (a MEMS gyro's, 0.3 deg/s; 2.5 sigma of
   // the filters' prior): with point feet the heading rule leaves the heading to the gyro, which
   // drifts with the bias; a standing sole shows the body's rotation against a foot that does not
   // turn, and the ESKF learns it. Slowly: a stance of 0.2 s sees 1 mrad of it, as much as the
   // gyro's own noise over that time (measured: 5 runs of 5 s, bias error 3.3e-3 rad/s against
-  // the point feet's 5.0e-3, sigma 1.4e-3 against the prior's 2.0e-3).
+  // the point feet's 5.0e-3, sigma 1.4e-3 against the prior's 2.0e-3; the InEKF 3.3e-3 and 1.4e-3).
   constexpr double kBias = 0.005;
   double flat = 0.0, point = 0.0, tilt_flat = 0.0, tilt_point = 0.0, sigma_flat = 0.0,
          sigma_point = 0.0;
@@ -169,8 +210,8 @@ TEST_CASE("Flat feet: the soles learn the gyro bias about the vertical that poin
     model::ImuBias bias;
     bias.b_g = Eigen::Vector3d(0.0, 0.0, kBias);
     const Biped b = bipedRun(40 + j, bias);
-    const Errors f = run(b, bipedParams(true), 60 + j);
-    const Errors p = run(b, bipedParams(false), 60 + j);
+    const Errors f = run<TestType>(b, bipedParams<TestType>(true), 60 + j);
+    const Errors p = run<TestType>(b, bipedParams<TestType>(false), 60 + j);
     flat += std::abs(f.bias_z - kBias) / kRuns;
     point += std::abs(p.bias_z - kBias) / kRuns;
     sigma_flat += f.sigma_bias_z / kRuns;
@@ -183,14 +224,14 @@ TEST_CASE("Flat feet: the soles learn the gyro bias about the vertical that poin
        << sigma_point << " rad/s; tilt RMS " << tilt_flat << " / " << tilt_point << " rad");
   CHECK(flat < 0.8 * point);
   CHECK(sigma_flat < 0.8 * sigma_point);
-  CHECK(sigma_point > 0.99 * bipedParams(false).sigma_gyro_bias);  // the heading rule's
+  CHECK(sigma_point > 0.99 * bipedParams<TestType>(false).sigma_gyro_bias);  // the heading rule's
   CHECK(tilt_flat < tilt_point);
 }
 
 TEST_CASE("Flat feet: a third foot has no slot, a sole that is no rotation is refused",
           "[57.5][eskf][flat-feet]") {
   const Biped b = bipedRun(3, model::ImuBias{}, 1.5);
-  invariant::Eskf filter(bipedParams(true));
+  invariant::Eskf filter(bipedParams<EskfFlat>(true));
   filter.reset(b.truth.front());
   std::size_t k = 0;
   for (; k + 1 < b.inputs.size() && b.inputs[k].num_contacts < 1; ++k) filter.step(b.inputs[k]);
