@@ -89,10 +89,9 @@ using Matrix27x3 = Eigen::Matrix<double, kDim, 3>;
 constexpr int rotationIndex(int i) {
   return eskf::footIndex(kFlatFeet + i);
 }
-// A flat foot's rotation before touchdown and in swing (the foot turns freely): its prior at
-// reset [rad] and its random walk [rad/sqrt(s)], the p_c = 0 end of a soft contact (57.6).
+// A flat foot's rotation before its first touchdown (the foot turns freely): its prior at reset
+// [rad].
 constexpr double kFootRotationPrior = 1.0;
-constexpr double kFootRotationSwingDensity = 1.0;
 
 void requireParam(bool ok, const char* what) {
   if (!ok) throw std::invalid_argument(std::string("Eskf: ") + what);
@@ -192,9 +191,9 @@ void Eskf::predict(double dt) {
     addDiagonal(eskf::footIndex(i), footDensity(i, params_.foot_stance_density, sw) * dt);
   }
   for (int i = 0; params_.flat_feet && i < kFlatFeet; ++i) {
-    addDiagonal(
-        rotationIndex(i),
-        footDensity(i, params_.foot_rotation_stance_density, kFootRotationSwingDensity) * dt);
+    addDiagonal(rotationIndex(i), footDensity(i, params_.foot_rotation_stance_density,
+                                              params_.foot_rotation_swing_density) *
+                                      dt);
   }
   addDiagonal(kBg, n.gyro_bias_random_walk * n.gyro_bias_random_walk * dt);
   addDiagonal(kBa, n.accel_bias_random_walk * n.accel_bias_random_walk * dt);

@@ -37,6 +37,10 @@ struct FilterParams {
   // feet as points.
   bool flat_feet = false;
   double foot_rotation_stance_density = 4e-3;  // [rad/sqrt(s)] (settings.hpp says why)
+  // A sole's rotation random walk in swing [rad/sqrt(s)], the p_c = 0 end of its soft density
+  // (57.6), as foot_swing_density is the position's: a swinging foot turns ~0.3 rad in 0.2 s,
+  // inside 1 * sqrt(0.2) = 0.45 rad.
+  double foot_rotation_swing_density = 1.0;
   // Prior of the state at reset (standard deviations; attitude per axis).
   double sigma_attitude = 0.01;    // [rad]
   double sigma_velocity = 0.05;    // [m/s]
@@ -66,6 +70,7 @@ inline void checkFilterParams(const FilterParams& p, const char* who, bool densi
   require(p.foot_stance_density, "foot_stance_density", densities_positive);
   require(p.foot_swing_density, "foot_swing_density", densities_positive);
   require(p.foot_rotation_stance_density, "foot_rotation_stance_density", false);
+  require(p.foot_rotation_swing_density, "foot_rotation_swing_density", false);
   require(p.sigma_attitude, "prior sigma_attitude", true);
   require(p.sigma_velocity, "prior sigma_velocity", true);
   require(p.sigma_position, "prior sigma_position", true);

@@ -87,10 +87,6 @@ using Vector3 = Eigen::Vector3d;
 using inekf::Covariance;
 using inekf::Discretisation;
 
-// A sole's rotation while its foot is off the ground is not held; p_c < 1 softens its random walk
-// towards this swing density [rad/sqrt(s)] (the ESKF's), the p_c = 0 end of a soft contact (57.6).
-constexpr double kFootRotationSwingDensity = 1.0;
-
 // The rotation matrix nearest to M (through its quaternion): a product of rotations, rounded.
 Matrix3 rotationOf(const Matrix3& M) {
   return Eigen::Quaterniond(M).normalized().toRotationMatrix();
@@ -267,8 +263,9 @@ void InvariantEkf::propagateCovariance(const inekf::Transition& Phi, double dt) 
   for (int foot = 0; Rots > 0 && foot < inekf::kMaxFeet; ++foot) {
     const int k = rotation_of_foot_[foot];
     if (k < 0) continue;
-    var_r[k] = contact::softFootNoiseDensity(
-        probability_[foot], params_.foot_rotation_stance_density, kFootRotationSwingDensity);
+    var_r[k] =
+        contact::softFootNoiseDensity(probability_[foot], params_.foot_rotation_stance_density,
+                                      params_.foot_rotation_swing_density);
   }
   const auto addDiagonal = [&](int at, double variance) {
     P.template block<3, 3>(at, at).diagonal().array() += variance;

@@ -112,6 +112,7 @@ struct NeesResult {
   int runs = 0;
   double mean = 0.0;      // mean over rows of ANEES_k (9 dof)
   double fraction = 0.0;  // of rows whose ANEES_k is inside the 95 % bounds
+  double above = 0.0;     // of rows whose ANEES_k is above them (over-confident)
   eval::ChiSquareBounds bounds;
 };
 
@@ -150,12 +151,14 @@ NeesResult monteCarloNees(int runs, Params params, double prior_scale,
   NeesResult r;
   r.runs = runs;
   r.bounds = eval::aneesBounds(9, runs);
-  int inside = 0;
+  int inside = 0, above = 0;
   for (const double a : anees) {
     r.mean += a / anees.size();
     inside += a >= r.bounds.lower && a <= r.bounds.upper;
+    above += a > r.bounds.upper;
   }
   r.fraction = static_cast<double>(inside) / anees.size();
+  r.above = static_cast<double>(above) / anees.size();
   return r;
 }
 
@@ -171,7 +174,7 @@ inline std::string describe(const NeesResult& r) {
   std::ostringstream os;
   os << "ANEES per dof over " << r.runs << " runs: mean " << r.mean / 9 << ", bounds ["
      << r.bounds.lower / 9 << ", " << r.bounds.upper / 9 << "], " << 100 * r.fraction
-     << " % of rows inside";
+     << " % of rows inside, " << 100 * r.above << " % above";
   return os.str();
 }
 

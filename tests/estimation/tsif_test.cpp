@@ -20,7 +20,10 @@
 
 using namespace legkit;
 using namespace legkit::invariant;
+using legkit::test::describe;
 using legkit::test::inputsOf;
+using legkit::test::monteCarloNees;
+using legkit::test::NeesResult;
 using legkit::test::normal3;
 using legkit::test::trotLog;
 using tsif::kDim;
@@ -433,46 +436,12 @@ TEST_CASE("TSIF: bad input throws and leaves the state untouched", "[57.5][tsif]
 }
 
 TEST_CASE("TSIF: Monte Carlo NEES on the default trot", "[57.5][tsif][nees]") {
-  // M runs of the Go2-class trot with their own seeds. Each run's initial biases and initial
-  // estimate error are drawn from the prior the filter is given, so the claimed covariance is
-  // right at t = 0 and NEES measures how well the filter keeps it right.
-  constexpr int kRuns = 20;
-  constexpr double kDuration = 5.0;
-  const TsifParams params;
-  std::vector<double> anees;  // ANEES_k summed over runs, per row
-  for (int run = 0; run < kRuns; ++run) {
-    std::mt19937 gen(1000 + run);
-    model::ImuBias bias;
-    bias.b_g = normal3(gen, params.sigma_gyro_bias);
-    bias.b_a = normal3(gen, params.sigma_accel_bias);
-    const io::Log log = trotLog(kDuration, 1 + run, false, bias);
-    EstimateSample x0 = eval::initialState(log);
-    // Truth = estimate (+) e: R = R_hat Exp(e_theta), so R_hat = R Exp(-e_theta).
-    x0.q = Eigen::Quaterniond(x0.q.toRotationMatrix() *
-                              lie::SO3d::Exp(-normal3(gen, params.sigma_attitude)).matrix());
-    x0.v -= normal3(gen, params.sigma_velocity);
-    x0.p -= normal3(gen, params.sigma_position);
-    Tsif filter(params);
-    const eval::RunResult result =
-        eval::runOnLog(filter, log, LogFrontend(log.layout, model::QuadrupedKinematics()), x0);
-    if (anees.empty()) anees.assign(result.nees.size(), 0.0);
-    for (std::size_t k = 0; k < anees.size(); ++k) anees[k] += result.nees[k] / kRuns;
-  }
-  const eval::ChiSquareBounds bounds = eval::aneesBounds(9, kRuns);
-  double mean = 0.0;
-  int inside = 0, above = 0;
-  for (const double a : anees) {
-    mean += a / anees.size();
-    inside += a >= bounds.lower && a <= bounds.upper;
-    above += a > bounds.upper;
-  }
-  const double fraction_inside = static_cast<double>(inside) / anees.size();
-  const double fraction_above = static_cast<double>(above) / anees.size();
-  WARN("TSIF ANEES per dof over " << kRuns << " runs of " << kDuration << " s: mean " << mean / 9
-                                  << ", 95 % bounds [" << bounds.lower / 9 << ", "
-                                  << bounds.upper / 9 << "], " << 100 * fraction_inside
-                                  << " % of rows inside, " << 100 * fraction_above << " % above");
-  // Measured (seeds as above): ANEES per dof 0.81, 50 % of the rows inside the bounds, none above.
+  // 20 runs of 5 s, each run's initial biases and error drawn from the prior the filter is given
+  // (test::monteCarloNees), with the kit's default front end.
+  const NeesResult r = monteCarloNees<Tsif>(20, TsifParams{}, 1.0, FrontendNoise{},
+                                            legkit::test::AttitudeError::kLocal);
+  WARN("TSIF: " << describe(r));
+  // Measured (seeds 1000 + run): ANEES per dof 0.81, 50 % of the rows inside the bounds, none above.
   // The filter is slightly conservative, not consistent in the strict sense: the front end
   // gives each stance foot a 5 mm contact-point sigma, white from sample to sample, while the
   // simulated kinematics are exact up to encoder noise (about 0.05 mm), and a simulated foot
@@ -480,10 +449,10 @@ TEST_CASE("TSIF: Monte Carlo NEES on the default trot", "[57.5][tsif][nees]") {
   // therefore over-estimated in their covariance (e^2 / sigma^2 about 0.7), attitude a little
   // (0.85). With kinematics made as accurate as the simulator's, the opposite happens: the
   // linearised filter gains yaw information it cannot have (see the next test case).
-  CHECK(mean > 6.0);
-  CHECK(mean < bounds.upper);
-  CHECK(fraction_above < 0.02);  // never over-confident for long
-  CHECK(fraction_inside > 0.3);
+  CHECK(r.mean > 6.0);
+  CHECK(r.mean < r.bounds.upper);
+  CHECK(r.above < 0.02);  // never over-confident for long
+  CHECK(r.fraction > 0.3);
 }
 
 TEST_CASE("TSIF: with very accurate kinematics it gains yaw information it cannot have",

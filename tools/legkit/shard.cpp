@@ -217,4 +217,21 @@ double parseExact(const std::string& field, const std::string& where) {
   return value;
 }
 
+std::filesystem::path studyFolder(const std::string& given, const std::string& study,
+                                  const Shard& shard) {
+  if (!given.empty()) return given;
+  return "legkit-out/study-" + study +
+         (shard.whole()
+              ? std::string()
+              : "-shard-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count));
+}
+
+void writeStudyShard(const std::filesystem::path& dir, const std::string& study,
+                     const nlohmann::json& options, const Shard& shard, const Block& block,
+                     const std::function<void(std::ostream&)>& rows) {
+  OutputFolder folder(dir, kShardManifest);
+  folder.write(kStudyRows, rows);
+  folder.writeManifest(shardManifest("study " + study, options, shard, block));
+}
+
 }  // namespace legkit::tools

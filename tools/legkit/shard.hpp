@@ -12,6 +12,9 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -70,6 +73,17 @@ ShardInput readShard(const std::string& dir);
 // version, the same N, each i exactly once and none missing, blocks that tile 0..total. Throws
 // InputError naming the folders and what differs.
 std::vector<ShardInput> checkShards(std::vector<ShardInput> shards);
+
+// A study's folder: `given` (--out), or legkit-out/study-<study>, with -shard-<i>-of-<N> for a
+// shard (shards on one machine must not share a folder).
+std::filesystem::path studyFolder(const std::string& given, const std::string& study,
+                                  const Shard& shard);
+
+// Writes a study shard into `dir`: its per-item rows (kStudyRows, by `rows`) and its manifest
+// (kind "study <study>", `options`, i/N, the block). The caller says on its output what it holds.
+void writeStudyShard(const std::filesystem::path& dir, const std::string& study,
+                     const nlohmann::json& options, const Shard& shard, const Block& block,
+                     const std::function<void(std::ostream&)>& rows);
 
 // The comma-separated fields of one row of a shard's rows file (an empty last field kept).
 std::vector<std::string> splitCsv(const std::string& line);

@@ -30,16 +30,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// --out, or legkit-out/study-<name>, with -shard-<i>-of-<N> for a shard (shards on one machine
-// must not share a folder).
-fs::path outputFolder(const std::string& given, const std::string& study, const Shard& shard) {
-  if (!given.empty()) return given;
-  return "legkit-out/study-" + study +
-         (shard.whole()
-              ? std::string()
-              : "-shard-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count));
-}
-
 // Progress on standard error: redrawn in place on a terminal, plain lines into a file or pipe.
 Progress stderrProgress() {
   return Progress(std::cerr, isatty(fileno(stderr)) != 0);
@@ -50,11 +40,8 @@ Progress stderrProgress() {
 int StudyCommand::writeShard(std::ostream& out, const std::string& study, const fs::path& dir,
                              const std::function<void(std::ostream&)>& rows,
                              const ShardRun& run) const {
-  OutputFolder folder(dir, kShardManifest);
-  folder.write(kStudyRows, rows);
-  folder.writeManifest(shardManifest(
-      "study " + study, {{"runs", run.runs}, {"duration", run.duration}, {"seed", seed_}},
-      run.shard, run.block));
+  writeStudyShard(dir, study, {{"runs", run.runs}, {"duration", run.duration}, {"seed", seed_}},
+                  run.shard, run.block, rows);
   out << "study " << study << ", shard " << run.shard.text() << ": runs " << run.block.begin << ".."
       << run.block.end - 1 << " of " << run.runs << " (seeds " << seed_ + run.block.begin << ".."
       << seed_ + run.block.end - 1 << ") in " << dir.string()
@@ -136,7 +123,7 @@ int StudyCommand::consistency(std::ostream& out) const {
   const int runs = runs_ > 0 ? runs_ : 12;
   const double duration = duration_ > 0 ? duration_ : 300.0;
   const Block block = shardBlock(shard, runs, "runs");
-  const fs::path dir = outputFolder(out_dir_, "consistency", shard);
+  const fs::path dir = studyFolder(out_dir_, "consistency", shard);
   makeOutputFolder(dir);  // before the runs: a bad --out fails at once
   eval::MonteCarloOptions options;
   options.runs = block.end - block.begin;
@@ -187,7 +174,7 @@ int StudyCommand::convergence(std::ostream& out) const {
   const Block block = shardBlock(shard, runs, "runs");
   constexpr double tilt_limit = 2.0 * M_PI / 180.0, velocity_limit = 0.1, settle = 5.0;
 
-  const fs::path dir = outputFolder(out_dir_, "convergence", shard);
+  const fs::path dir = studyFolder(out_dir_, "convergence", shard);
   makeOutputFolder(dir);
   ConvergenceRows rows = convergenceRows(block.begin, block.end - block.begin, angles,
                                          {"linear-kf", "eskf", "invariant-ekf"});
@@ -251,7 +238,7 @@ int StudyCommand::sweep(std::ostream& out) const {
   const double duration = duration_ > 0 ? duration_ : 20.0;
   const Block block = shardBlock(shard, runs, "runs");
   constexpr double window = kSweepWindow;
-  const fs::path dir = outputFolder(out_dir_, "sweep", shard);
+  const fs::path dir = studyFolder(out_dir_, "sweep", shard);
   makeOutputFolder(dir);
   const int count = block.end - block.begin;
   MonteCarloRows rows{block.begin, {}, {}, {}, {}};

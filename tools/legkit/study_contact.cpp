@@ -183,22 +183,11 @@ ScenarioRun scenarioRun(const sim::PhysicsOptions& o, const sim::PhysicsResult& 
   return {o.scenario.name, r.status.fell, r.status.fell ? r.status.time : 0.0};
 }
 
-// --out, or legkit-out/study-<name>, with -shard-<i>-of-<N> for a shard.
-fs::path outputFolder(const std::string& given, const std::string& study, const Shard& shard) {
-  if (!given.empty()) return given;
-  return "legkit-out/study-" + study +
-         (shard.whole()
-              ? std::string()
-              : "-shard-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count));
-}
-
 // A shard's output: its rows (kStudyRows) and its manifest, and what it holds on `out`.
 int writeShard(std::ostream& out, const std::string& study, const fs::path& dir,
                const nlohmann::json& options, const Shard& shard, const Block& block, int items,
                const std::string& what, const std::function<void(std::ostream&)>& rows) {
-  OutputFolder folder(dir, kShardManifest);
-  folder.write(kStudyRows, rows);
-  folder.writeManifest(shardManifest("study " + study, options, shard, block));
+  writeStudyShard(dir, study, options, shard, block, rows);
   out << "study " << study << ", shard " << shard.text() << ": items " << block.begin << ".."
       << block.end - 1 << " of " << items << " (" << what << ") in " << dir.string()
       << "/; `legkit merge OUT SHARD_DIR...` makes the study's tables and files from all "
@@ -386,7 +375,7 @@ int StudyContact::contact(std::ostream& out) const {
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("--filter: ") + e.what());
   }
-  const fs::path dir = outputFolder(out_dir_, "contact", shard);
+  const fs::path dir = studyFolder(out_dir_, "contact", shard);
   makeOutputFolder(dir);
   Progress progress = stderrProgress();
   progress.run("contact, training the logistic model", 0, 1);
@@ -482,7 +471,7 @@ int StudyContact::slip(std::ostream& out) const {
     throw UsageError("--contact: neither truth nor a detector: " + contact_source_);
   }
   const Block block = shardBlock(shard, items, "items (the scenarios and the contact sources)");
-  const fs::path dir = outputFolder(out_dir_, "slip", shard);
+  const fs::path dir = studyFolder(out_dir_, "slip", shard);
   makeOutputFolder(dir);  // after the options' checks: a bad one leaves no folder
   Progress progress = stderrProgress();
   progress.run("slip, training the logistic model", 0, 1);

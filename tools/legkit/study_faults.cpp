@@ -104,10 +104,7 @@ int StudyFaults::run(std::ostream& out) const {
   };
   const int total = static_cast<int>(cases.size());
   const Block block = shardBlock(shard, total, "fault cases");
-  const fs::path dir =
-      out_dir_.empty() ? fs::path("legkit-out/study-faults-shard-" + std::to_string(shard.index) +
-                                  "-of-" + std::to_string(shard.count))
-                       : fs::path(out_dir_);
+  const fs::path dir = studyFolder(out_dir_, "faults", shard);
   if (!shard.whole()) makeOutputFolder(dir);  // before the runs: a bad --out fails at once
 
   sim::PhysicsOptions o = sim::PhysicsOptions::forScenario("physics-trot");
