@@ -139,7 +139,7 @@ void appendMonteCarloRows(MonteCarloRows& all, const MonteCarloRows& next,
 }
 
 void reportConsistency(std::ostream& out, const std::filesystem::path& dir,
-                       const MonteCarloRows& rows, double duration) {
+                       const MonteCarloRows& rows, double duration, bool correct_yaw) {
   std::vector<eval::MonteCarloEstimate> result;
   for (std::size_t e = 0; e < rows.names.size(); ++e) {
     result.push_back(eval::reduceRuns(rows.names[e], rows.t, rows.runs[e]));
@@ -157,22 +157,31 @@ void reportConsistency(std::ostream& out, const std::filesystem::path& dir,
   }
 
   out << "Consistency on the default trot: " << runs << " runs x " << duration
-      << " s, initial errors and biases drawn from the filters' prior\n\n";
+      << " s, initial errors and biases drawn from the filters' prior, "
+      << (correct_yaw ? "plain filters (stance feet correct the heading)"
+                      : "the heading rule (stance feet leave the heading to the gyro)")
+      << "\n\n";
   std::vector<std::vector<std::string>> table = {{"filter", "dof", "ANEES/dof", "last 10 %",
-                                                  "95 % bounds / dof", "inside [%]",
-                                                  "pos RMSE [m]"}};
-  for (const eval::MonteCarloEstimate& r : result) {
-    double pos = 0.0;
+                                                  "95 % bounds / dof", "inside [%]", "pos RMSE [m]",
+                                                  "yaw RMSE [deg]"}};
+  for (std::size_t e = 0; e < result.size(); ++e) {
+    const eval::MonteCarloEstimate& r = result[e];
+    double pos = 0.0, yaw = 0.0;
     for (const eval::Metrics& m : r.runs) pos += m.position_rmse / r.runs.size();
+    for (const std::vector<double>& x : rows.extra[e]) {
+      if (x.size() != 1)
+        throw InputError("consistency rows of " + r.name + ": a run without its yaw RMSE");
+      yaw += x[0] / rows.extra[e].size();
+    }
     const std::size_t from = r.anees.size() - std::max<std::size_t>(1, r.anees.size() / 10);
     double late = 0.0;
     for (std::size_t k = from; k < r.anees.size(); ++k) late += r.anees[k];
     late /= static_cast<double>((r.anees.size() - from) * r.dof);
-    table.push_back({r.name, std::to_string(r.dof), formatFixed(r.mean_anees, 2),
-                     formatFixed(late, 2),
-                     "[" + formatFixed(r.bounds.lower / r.dof, 2) + ", " +
-                         formatFixed(r.bounds.upper / r.dof, 2) + "]",
-                     formatFixed(100.0 * r.fraction_inside, 1), formatFixed(pos, 3)});
+    table.push_back(
+        {r.name, std::to_string(r.dof), formatFixed(r.mean_anees, 2), formatFixed(late, 2),
+         "[" + formatFixed(r.bounds.lower / r.dof, 2) + ", " +
+             formatFixed(r.bounds.upper / r.dof, 2) + "]",
+         formatFixed(100.0 * r.fraction_inside, 1), formatFixed(pos, 3), formatFixed(yaw, 2)});
   }
   printTable(out, table);
   out << "\n(ANEES/dof: the mean over time of ANEES_k / dof; last 10 %: the same over the last "

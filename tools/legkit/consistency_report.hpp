@@ -38,9 +38,10 @@ void appendMonteCarloRows(MonteCarloRows& all, const MonteCarloRows& next,
                           const std::string& where);
 
 // The study's table on `out` and dir/consistency.csv, from all runs (first == 0): the ANEES of
-// each filter through eval::reduceRuns.
+// each filter through eval::reduceRuns, and each run's yaw RMSE from its extra value. The header
+// says whether the filters were the plain ones (`correct_yaw`) or the heading rule's.
 void reportConsistency(std::ostream& out, const std::filesystem::path& dir,
-                       const MonteCarloRows& rows, double duration);
+                       const MonteCarloRows& rows, double duration, bool correct_yaw);
 
 // The sweep's settings, in its order: "<parameter> x <scale>" (sweepSetting), 3 x 13 of them.
 inline constexpr const char* kSweepParameters[] = {"foot process noise", "accelerometer noise",

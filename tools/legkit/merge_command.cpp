@@ -89,7 +89,7 @@ int MergeCommand::study(std::ostream& out, const std::vector<ShardInput>& shards
     if (name == "sweep") {
       reportSweep(out, out_, all, duration);
     } else {
-      reportConsistency(out, out_, all, duration);
+      reportConsistency(out, out_, all, duration, options.at("correct_yaw").get<bool>());
     }
   } else {
     ConvergenceRows all;

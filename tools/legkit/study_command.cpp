@@ -40,7 +40,11 @@ Progress stderrProgress() {
 int StudyCommand::writeShard(std::ostream& out, const std::string& study, const fs::path& dir,
                              const std::function<void(std::ostream&)>& rows,
                              const ShardRun& run) const {
-  writeStudyShard(dir, study, {{"runs", run.runs}, {"duration", run.duration}, {"seed", seed_}},
+  writeStudyShard(dir, study,
+                  {{"runs", run.runs},
+                   {"duration", run.duration},
+                   {"seed", seed_},
+                   {"correct_yaw", correct_yaw_}},
                   run.shard, run.block, rows);
   out << "study " << study << ", shard " << run.shard.text() << ": runs " << run.block.begin << ".."
       << run.block.end - 1 << " of " << run.runs << " (seeds " << seed_ + run.block.begin << ".."
@@ -81,6 +85,9 @@ StudyCommand::StudyCommand(CLI::App& app)
         ->check(nonEmptyName());
     c->add_flag("!--no-plots", plots_, "Do not draw the PNG figure");
   }
+  consistency_->add_flag("--correct-yaw", correct_yaw_,
+                         "The plain filters: stance feet correct the heading (feet.correct_yaw: "
+                         "true); by default the heading rule of 57.5");
   for (CLI::App* c : {consistency_, convergence_, sweep_}) {
     c->add_option("--shard", shard_,
                   "Run shard i of N (a block of the runs) into --out; `legkit merge` combines "
@@ -143,16 +150,23 @@ int StudyCommand::consistency(std::ostream& out) const {
   std::vector<eval::NamedEstimator> filters;
   filters.reserve(rows.names.size());
   for (const std::string& name : rows.names) {
-    filters.push_back({name, [name] { return makeEstimator(name); }});
+    filters.push_back({name, [name, plain = correct_yaw_] {
+                         return makeFamilyFilter(name, [plain](invariant::FilterParams& p) {
+                           p.feet_correct_yaw = plain;
+                         });
+                       }});
   }
   const std::vector<eval::MonteCarloEstimate> result = eval::monteCarlo(options, filters);
   progress.clear();
   rows.t = result.front().t;
   for (std::size_t e = 0; e < result.size(); ++e) {
-    for (int j = 0; j < options.runs; ++j) rows.runs[e][j].metrics = result[e].runs[j];
+    for (int j = 0; j < options.runs; ++j) {
+      rows.runs[e][j].metrics = result[e].runs[j];
+      rows.extra[e][j] = {result[e].runs[j].yaw_rmse_deg};  // the report's yaw column
+    }
   }
   if (shard.whole()) {
-    reportConsistency(out, dir, rows, duration);
+    reportConsistency(out, dir, rows, duration, correct_yaw_);
     return plot(out, "consistency", dir.string());
   }
   return writeShard(out, "consistency", dir, [&](std::ostream& f) { writeMonteCarloRows(f, rows); },

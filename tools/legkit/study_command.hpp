@@ -66,6 +66,7 @@ class StudyCommand {
   int threads_ = 0;
   std::string out_dir_;
   bool plots_ = true;
+  bool correct_yaw_ = false;   // `study consistency --correct-yaw`: the plain filters (57.5)
   std::string shard_ = "1/1";  // `--shard i/N` of consistency and convergence (shard.hpp)
   StudyContact contact_;       // `study contact` and `study slip`
   StudyFaults faults_;         // `study faults` (57.9)

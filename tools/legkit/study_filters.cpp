@@ -14,6 +14,29 @@ std::vector<std::string> filterNames() {
   return {"linear-kf", "eskf", "invariant-ekf", "tsif"};
 }
 
+namespace {
+
+template <class Filter, class Params>
+std::unique_ptr<Estimator> makeAdjusted(
+    const std::function<void(invariant::FilterParams&)>& adjust) {
+  Params p;
+  adjust(p);
+  return std::make_unique<Filter>(p);
+}
+
+}  // namespace
+
+std::unique_ptr<Estimator> makeFamilyFilter(
+    const std::string& name, const std::function<void(invariant::FilterParams&)>& adjust) {
+  if (name == "linear-kf") return std::make_unique<linear_kf::LinearKf>();
+  if (name == "eskf") return makeAdjusted<invariant::Eskf, invariant::EskfParams>(adjust);
+  if (name == "invariant-ekf") {
+    return makeAdjusted<invariant::InvariantEkf, invariant::InvariantEkfParams>(adjust);
+  }
+  if (name == "tsif") return makeAdjusted<invariant::Tsif, invariant::TsifParams>(adjust);
+  throw std::invalid_argument("no filter '" + name + "' in the studies");
+}
+
 std::unique_ptr<Estimator> makeWithInitialAttitudeSigma(const std::string& name, double sigma) {
   if (name == "linear-kf") {
     linear_kf::LinearKfParams p;
@@ -21,22 +44,7 @@ std::unique_ptr<Estimator> makeWithInitialAttitudeSigma(const std::string& name,
     p.attitude.sigma_yaw = sigma;
     return std::make_unique<linear_kf::LinearKf>(p);
   }
-  if (name == "eskf") {
-    invariant::EskfParams p;
-    p.sigma_attitude = sigma;
-    return std::make_unique<invariant::Eskf>(p);
-  }
-  if (name == "invariant-ekf") {
-    invariant::InvariantEkfParams p;
-    p.sigma_attitude = sigma;
-    return std::make_unique<invariant::InvariantEkf>(p);
-  }
-  if (name == "tsif") {
-    invariant::TsifParams p;
-    p.sigma_attitude = sigma;
-    return std::make_unique<invariant::Tsif>(p);
-  }
-  throw std::invalid_argument("no filter '" + name + "' with an attitude prior");
+  return makeFamilyFilter(name, [sigma](invariant::FilterParams& p) { p.sigma_attitude = sigma; });
 }
 
 std::unique_ptr<Estimator> makeLinearKf(const LinearKfScales& scales) {

@@ -1,17 +1,24 @@
 // The filters the studies compare, built with the one parameter each study varies.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "estimation/estimator.hpp"
+#include "estimation/invariant/filter_params.hpp"
 #include "estimation/log_frontend.hpp"
 
 namespace legkit::tools {
 
 // The estimators that keep a covariance (sections 57.4 and 57.5), in the chapter's order.
 std::vector<std::string> filterNames();
+
+// A filter of filterNames() with its default parameters, except what `adjust` changes in the
+// block the three filters of 57.5 share (the linear KF, not of that family, keeps its defaults).
+std::unique_ptr<Estimator> makeFamilyFilter(
+    const std::string& name, const std::function<void(invariant::FilterParams&)>& adjust);
 
 // A filter with its default parameters except its initial attitude standard deviation [rad],
 // which the convergence study sets to the initial error it applies. Only for the filters that
