@@ -371,8 +371,9 @@ const std::vector<Node>& schema() {
                    "heading rule of section 57.5)"),
                flag(
                    "flat", [](S& s) -> bool& { return s.feet.flat; },
-                   "flat feet (a humanoid's soles): the ESKF and the InEKF also use each stance "
-                   "foot's orientation from the robot's model (at most two feet; section 57.5)"),
+                   "flat feet (a humanoid's soles): the ESKF, the InEKF and the TSIF also use each "
+                   "stance foot's orientation from the robot's model (at most two feet; section "
+                   "57.5)"),
                number(
                    "rotation_stance_density",
                    [](S& s) -> double& { return s.feet.rotation_stance_density; }, 1e-9, 1,

@@ -93,9 +93,9 @@ struct FootSettings {
   double stance_density = 1e-3;  // [m/sqrt(s)] a stance foot's slip allowance
   double swing_density = 2.0;    // [m/sqrt(s)] a swing foot (the soft-contact end of p_c = 0)
   bool correct_yaw = false;      // stance feet may correct the heading (ESKF, InEKF, TSIF)
-  // Flat feet (a humanoid's soles, section 57.5): the ESKF and the InEKF carry each stance foot's
-  // orientation too, measured from the robot's model (frontend.foot_rotation_sigma); the TSIF
-  // and the linear KF use the feet as points.
+  // Flat feet (a humanoid's soles, section 57.5): the ESKF, the InEKF and the TSIF carry each
+  // stance foot's orientation too, measured from the robot's model (frontend.foot_rotation_sigma);
+  // the linear KF uses the feet as points.
   bool flat = false;
   // [rad/sqrt(s)] a flat stance foot's rotation random walk: DILIGENT-KIO's stance-foot angular
   // velocity noise, 4e-3 rad/s (Ramadoss et al. 2021, configMatlabSensorDev.m), read as a density

@@ -73,10 +73,12 @@ using eskf::kBg;
 using eskf::kDim;
 using eskf::kFeet;
 using eskf::kFlatFeet;
+using eskf::kFootRotationPrior;
 using eskf::kP;
 using eskf::kTheta;
 using eskf::kV;
 using eskf::Matrix27;
+using eskf::rotationIndex;
 using eskf::Vector27;
 
 namespace {
@@ -84,14 +86,6 @@ namespace {
 using Matrix3 = Eigen::Matrix3d;
 using Vector3 = Eigen::Vector3d;
 using Matrix27x3 = Eigen::Matrix<double, kDim, 3>;
-
-// The error blocks of a flat foot's rotation: where feet 3 and 4 of a quadruped would be.
-constexpr int rotationIndex(int i) {
-  return eskf::footIndex(kFlatFeet + i);
-}
-// A flat foot's rotation before its first touchdown (the foot turns freely): its prior at reset
-// [rad].
-constexpr double kFootRotationPrior = 1.0;
 
 void requireParam(bool ok, const char* what) {
   if (!ok) throw std::invalid_argument(std::string("Eskf: ") + what);
@@ -210,10 +204,8 @@ Eskf::Update Eskf::updateFoot(int i, const ContactMeasurement& c, double t, Vect
 
 Eskf::Update Eskf::updateFootRotation(int i, const ContactMeasurement& c, double t, Vector27& dx) {
   // h = R^T R_F; r = Log(h_hat^T Z) = dphi_i - h_hat^T dtheta + n (file comment, "Flat feet").
-  const Matrix3 h = x_.R.matrix().transpose() * foot_R_[i].matrix();
   Eigen::Matrix<double, 3, 6> H;  // over (dtheta, dphi_i)
-  H << -h.transpose(), Matrix3::Identity();
-  const Vector3 r = lie::SO3d::fromQuaternion(Eigen::Quaterniond(h.transpose() * *c.R_body)).Log();
+  const Vector3 r = eskf::soleResidual(x_.R, foot_R_[i], *c.R_body, &H);
   return correct<2>(i, {kTheta, rotationIndex(i)}, H, r, c.rot_cov, t, Measured::kRotation,
                     c.probability, dx);
 }

@@ -157,10 +157,9 @@ namespace legkit::invariant {
 
 namespace eskf {
 
-constexpr int kFlatFeet = 2;  // flat feet (params.flat_feet): a humanoid's two soles
-
-// The state, its error vector, the strapdown step and h_i are the TSIF's too: this namespace
-// extends the shared one (nominal_state.hpp), so eskf::State is nominal::State.
+// The state, its error vector (and its flat feet's layout), the strapdown step and h_i are the
+// TSIF's too: this namespace extends the shared one (nominal_state.hpp), so eskf::State is
+// nominal::State.
 using namespace nominal;  // NOLINT(google-build-using-namespace)
 
 // F of d(dx)/dt = F dx + G n at the estimate x and input u (file comment): the chapter's

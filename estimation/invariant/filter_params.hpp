@@ -32,9 +32,9 @@ struct FilterParams {
   // false, the heading rule (the default: each filter's file comment); true, the plain filter.
   bool feet_correct_yaw = false;
   // Flat feet (settings feet.flat and feet.rotation_stance_density; each filter's "Flat feet"):
-  // the ESKF and the InEKF also estimate each stance foot's orientation and use the measured R_BF
-  // of its ContactMeasurement; at most two feet (a humanoid's). The TSIF and the linear KF use the
-  // feet as points.
+  // the ESKF, the InEKF and the TSIF also estimate each stance foot's orientation and use the
+  // measured R_BF of its ContactMeasurement; at most two feet (a humanoid's). The linear KF uses
+  // the feet as points.
   bool flat_feet = false;
   double foot_rotation_stance_density = 4e-3;  // [rad/sqrt(s)] (settings.hpp says why)
   // A sole's rotation random walk in swing [rad/sqrt(s)], the p_c = 0 end of its soft density

@@ -9,7 +9,8 @@
 // (a local, body-frame attitude error; every other block additive).
 //
 // IMU noise contract of both filters (model::ImuNoise): a bias random walk of zero is accepted and
-// means a constant bias, whose only uncertainty is the prior's (checkFilterParams, filter_params.hpp).
+// means a constant bias, whose only uncertainty is the prior's (checkFilterParams,
+// filter_params.hpp).
 #pragma once
 
 #include <Eigen/Core>
@@ -30,6 +31,15 @@ constexpr int kTheta = 0, kV = 3, kP = 6, kD = 9, kBg = 9 + 3 * kFeet, kBa = kBg
 constexpr int footIndex(int i) {
   return kD + 3 * i;
 }
+// Flat feet (FilterParams::flat_feet): a humanoid's two soles, each foot with its position d_i
+// and its rotation R_F,i, whose error dphi_i takes the blocks of a quadruped's feet 3 and 4.
+constexpr int kFlatFeet = 2;
+constexpr int rotationIndex(int i) {
+  return footIndex(kFlatFeet + i);
+}
+// A flat foot's rotation before its first touchdown (the foot turns freely): its prior at reset
+// [rad].
+constexpr double kFootRotationPrior = 1.0;
 
 using Vector27 = Eigen::Matrix<double, kDim, 1>;
 using Matrix27 = Eigen::Matrix<double, kDim, kDim>;
@@ -96,6 +106,16 @@ inline Eigen::Vector3d footInBody(const State& x, int i, Matrix39* H = nullptr) 
     H->block<3, 3>(0, 6) = Rt;            // dd_i
   }
   return h;
+}
+
+// A flat foot's sole seen from the body, h = R^T R_F (R_F = R_F,hat Exp(dphi), local), against
+// its measurement Z = R_BF (57.5, "Flat feet"): r = Log(h_hat^T Z) = dphi_i - h_hat^T dtheta + n
+// and its 3 x 6 Jacobian H = [-h_hat^T (dtheta), I (dphi_i)].
+inline Eigen::Vector3d soleResidual(const lie::SO3d& R, const lie::SO3d& R_F,
+                                    const Eigen::Matrix3d& Z, Eigen::Matrix<double, 3, 6>* H) {
+  const Eigen::Matrix3d h = R.matrix().transpose() * R_F.matrix();
+  *H << -h.transpose(), Eigen::Matrix3d::Identity();
+  return lie::SO3d::fromQuaternion(Eigen::Quaterniond(h.transpose() * Z)).Log();
 }
 
 }  // namespace legkit::invariant::nominal

@@ -120,13 +120,12 @@ void requirePositive(double value, const char* what) {
   throw std::invalid_argument(os.str());
 }
 
-// Marginalises foot i out of the information Lambda (Schur complement of its 3 x 3 block) and
-// leaves it with no information at all: the foot forgets where it was, and only the kinematics
-// residual of the touchdown step decides where it is now. (A weak prior on the new foot would be
-// information the robot does not have: its mean comes from the estimate, so each touchdown would
-// add a little to the unobservable position.)
-void forgetFoot(Matrix27& Lambda, int i) {
-  const int f = footIndex(i);
+// Marginalises the 3 x 3 block at f (a foot, or a flat foot's sole) out of the information Lambda
+// (Schur complement) and leaves it with no information at all: the foot forgets where it was, and
+// only the kinematics residual of the touchdown step decides where it is now. (A weak prior on the
+// new foot would be information the robot does not have: its mean comes from the estimate, so each
+// touchdown would add a little to the unobservable position.)
+void forgetBlock(Matrix27& Lambda, int f) {
   const Eigen::Matrix<double, kDim, 3> B = Lambda.middleCols<3>(f);
   const Eigen::LLT<Eigen::Matrix3d> llt(Lambda.block<3, 3>(f, f));
   Lambda.noalias() -= B * llt.solve(B.transpose());
@@ -137,20 +136,37 @@ void forgetFoot(Matrix27& Lambda, int i) {
 // The heading rule (eskf.hpp's "Heading" paragraph) at x: E = V B^T. B's columns pick the
 // heading psi = up^T dtheta (up = R^T e_z, the vertical in the local error) and the gyro bias
 // along up; V's are the turn of the robot about its base (up on the attitude, e_z x v on the
-// velocity, e_z x (d_i - p) on the feet) and up on the gyro bias.
+// velocity, e_z x (d_i - p) on the feet, R_F^T e_z on a flat foot's sole R_F) and up on the gyro
+// bias.
 struct Heading {
   Eigen::Matrix<double, kDim, 2> B = Eigen::Matrix<double, kDim, 2>::Zero();
   Eigen::Matrix<double, kDim, 2> V = Eigen::Matrix<double, kDim, 2>::Zero();
 };
-Heading heading(const State& x) {
+Heading heading(const State& x, const Soles& R_F, bool flat_feet) {
   const Eigen::Vector3d up = x.R.matrix().row(2).transpose();
   const auto turned = [](const Eigen::Vector3d& a) { return Eigen::Vector3d(-a.y(), a.x(), 0.0); };
   Heading h;
   h.B.col(0).segment<3>(kTheta) = h.V.col(0).segment<3>(kTheta) = up;
   h.V.col(0).segment<3>(kV) = turned(x.v);
-  for (int i = 0; i < kFeet; ++i) h.V.col(0).segment<3>(footIndex(i)) = turned(x.d[i] - x.p);
+  for (int i = 0; i < (flat_feet ? kFlatFeet : kFeet); ++i)
+    h.V.col(0).segment<3>(footIndex(i)) = turned(x.d[i] - x.p);
+  for (int i = 0; flat_feet && i < kFlatFeet; ++i)
+    h.V.col(0).segment<3>(rotationIndex(i)) = R_F[i].matrix().row(2).transpose();  // R_F^T e_z
   h.B.col(1).segment<3>(kBg) = h.V.col(1).segment<3>(kBg) = up;
   return h;
+}
+
+// x (+) dx (State::plus); with flat feet the soles turn, R_F <- R_F Exp(dphi_i) as the attitude,
+// and their blocks stay out of the (unused) feet 3 and 4 (the ESKF's injection).
+State plus(const State& x, const Vector27& dx, bool flat_feet, Soles& R_F) {
+  if (!flat_feet) return x.plus(dx);
+  Vector27 dx_points = dx;
+  for (int i = 0; i < kFlatFeet; ++i) {
+    R_F[i] = lie::SO3d::fromQuaternion(Eigen::Quaterniond(
+        R_F[i].matrix() * lie::SO3d::Exp(dx.segment<3>(rotationIndex(i))).matrix()));
+    dx_points.segment<3>(rotationIndex(i)).setZero();
+  }
+  return x.plus(dx_points);
 }
 
 // A bias with zero random walk is constant, b_{k+1} = b_k: an infinite weight on r_b that the
@@ -235,32 +251,52 @@ Matrix27 betweenMarginal(const Matrix27& H_prior, const ImuResidual& e, const mo
   return Minv;
 }
 
-// Cov_i^-1 of a stance foot's kinematics. The variance floor keeps the normal equations
-// factorisable for any admitted covariance (1e-30 m^2 would weigh 1e30 against a prior of ~1e4).
-Eigen::Matrix3d kinematicsWeight(const ContactMeasurement& c) {
-  const Eigen::Matrix3d cov = c.cov + kMinFootVariance * Eigen::Matrix3d::Identity();
-  return cov.llt().solve(Eigen::Matrix3d::Identity());
+// Cov^-1 of a kinematics residual (a stance foot's position, or its sole's rotation). The
+// variance floor keeps the normal equations factorisable for any admitted covariance (1e-30 m^2
+// would weigh 1e30 against a prior of ~1e4).
+Eigen::Matrix3d weightOf(const Eigen::Matrix3d& cov) {
+  const Eigen::Matrix3d floored = cov + kMinFootVariance * Eigen::Matrix3d::Identity();
+  return floored.llt().solve(Eigen::Matrix3d::Identity());
 }
 
-// Adds the kinematics residual of stance foot i at x, weight W, to the normal equations H dx = -g
-// over (dtheta, dp, dd_i).
+// Adds a 3-dimensional residual r with Jacobian J over the error blocks at `blocks` and weight W
+// to the normal equations H dx = -g: J^T W J and J^T W r.
+template <int Blocks>
+void addResidual(const std::array<int, Blocks>& blocks,
+                 const Eigen::Matrix<double, 3, 3 * Blocks>& J, const Eigen::Vector3d& r,
+                 const Eigen::Matrix3d& W, Matrix27& H, Vector27& g) {
+  const Eigen::Matrix<double, 3 * Blocks, 3> JtW = J.transpose() * W;
+  const Eigen::Matrix<double, 3 * Blocks, 3 * Blocks> M = JtW * J;
+  const Eigen::Matrix<double, 3 * Blocks, 1> m = JtW * r;
+  for (int a = 0; a < Blocks; ++a) {
+    g.template segment<3>(blocks[a]) += m.template segment<3>(3 * a);
+    for (int b = 0; b < Blocks; ++b)
+      H.template block<3, 3>(blocks[a], blocks[b]) += M.template block<3, 3>(3 * a, 3 * b);
+  }
+}
+
+// Adds the kinematics residual of stance foot i at x, weight W, over (dtheta, dp, dd_i).
 void addKinematics(const State& x, int i, const ContactMeasurement& c, const Eigen::Matrix3d& W,
                    Matrix27& H, Vector27& g) {
   Matrix39 J;
   const Eigen::Vector3d r = kinematicsResidual(x, i, c.p_body, &J);
-  const Eigen::Matrix<double, 9, 3> JtW = J.transpose() * W;
-  const Eigen::Matrix<double, 9, 9> M = JtW * J;
-  const Eigen::Matrix<double, 9, 1> m = JtW * r;
-  const std::array<int, 3> blocks = {kTheta, kP, footIndex(i)};
-  for (int a = 0; a < 3; ++a) {
-    g.segment<3>(blocks[a]) += m.segment<3>(3 * a);
-    for (int b = 0; b < 3; ++b) H.block<3, 3>(blocks[a], blocks[b]) += M.block<3, 3>(3 * a, 3 * b);
-  }
+  addResidual<3>({kTheta, kP, footIndex(i)}, J, r, W, H, g);
+}
+
+// Adds flat foot i's sole residual at (x, R_F), weight W, over (dtheta, dphi_i): with the ESKF's
+// r = Log(h_hat^T Z) = dphi_i - h_hat^T dtheta + n and H = [-h_hat^T, I] (soleResidual), the
+// TSIF's h (-) z is Log(Z^T h) = -r + H dx (file comment, "Flat feet").
+void addSole(const State& x, const lie::SO3d& R_F, int i, const ContactMeasurement& c,
+             const Eigen::Matrix3d& W, Matrix27& H, Vector27& g) {
+  Eigen::Matrix<double, 3, 6> J;
+  const Eigen::Vector3d r = soleResidual(x.R, R_F, *c.R_body, &J);
+  addResidual<2>({kTheta, rotationIndex(i)}, J, -r, W, H, g);
 }
 
 }  // namespace
 
-Tsif::Tsif(const TsifParams& params) : params_(params), gate_(params.gating, "Tsif") {
+Tsif::Tsif(const TsifParams& params)
+    : params_(params), gate_(params.gating, "Tsif"), slots_(params.flat_feet ? kFlatFeet : kFeet) {
   // White noise weighs the IMU residual by its inverse: it must be positive. A zero random walk
   // is a constant bias (shareBias).
   checkFilterParams(params, "Tsif", true);
@@ -290,10 +326,15 @@ void Tsif::reset(const EstimateSample& x0) {
   set(kV, params_.sigma_velocity);
   set(kP, params_.sigma_position);
   for (int i = 0; i < kFeet; ++i) set(footIndex(i), params_.foot_init_sigma);
+  for (int i = 0; params_.flat_feet && i < kFlatFeet; ++i)
+    set(rotationIndex(i), kFootRotationPrior);
   set(kBg, params_.sigma_gyro_bias);
   set(kBa, params_.sigma_accel_bias);
   Lambda_ = information.asDiagonal();
   in_contact_.fill(false);
+  probability_.fill(0.0);
+  foot_R_.fill(lie::SO3d{});
+  rotation_held_.fill(false);
   t_ = x0.t;
   has_previous_ = false;
   pending_dt_ = 0.0;
@@ -335,12 +376,13 @@ void Tsif::step(const StepInput& raw) {
     // ESKF's initialisation of a foot, in information form).
     for (int i = 0; i < kFeet; ++i) {
       if (contact[i] && !in_contact_[i]) {
-        forgetFoot(Lambda_, i);
-        x_.d[i] = x_.p + x_.R * contact[i]->p_body;
-        Vector27 g = Vector27::Zero();  // zero: the residual vanishes at the new foot
-        addKinematics(x_, i, *contact[i], kinematicsWeight(*contact[i]), Lambda_, g);
+        placeFoot(i, *contact[i], Lambda_, x_, foot_R_);
+        Vector27 g = Vector27::Zero();  // zero: the residuals vanish at the new foot and sole
+        addKinematics(x_, i, *contact[i], weightOf(contact[i]->cov), Lambda_, g);
+        if (rotation_held_[i])
+          addSole(x_, foot_R_[i], i, *contact[i], weightOf(contact[i]->rot_cov), Lambda_, g);
       }
-      in_contact_[i] = contact[i] != nullptr;
+      holdContact(i, contact[i]);
     }
     Lambda_ = 0.5 * (Lambda_ + Lambda_.transpose()).eval();
     finishStep(in, imu_admitted);
@@ -350,15 +392,24 @@ void Tsif::step(const StepInput& raw) {
   pending_dt_ = 0.0;
   // The pair (x0, x1) = (x_k, x_{k+1}); x1 starts at the IMU prediction of x0.
   State x0 = x_;
+  Soles R_F0 = foot_R_;  // flat feet: the soles of x0 and x1
   Matrix27 Lambda0 = Lambda_;
   State x1 = nominal::propagate(x0, previous_, dt, params_.gravity);
-  // Touchdown: the foot is forgotten and placed at this sample's kinematics (in both states; the
-  // stance residual ties them, the kinematics residual gives the foot all its information).
-  for (int i = 0; i < kFeet; ++i) {
-    if (!contact[i] || in_contact_[i]) continue;
-    forgetFoot(Lambda0, i);
-    x0.d[i] = x1.d[i] = x1.p + x1.R * contact[i]->p_body;
-  }
+  Soles R_F1 = R_F0;
+  // The four blocks after p (feet, or with flat feet two feet and their soles) placed at this step,
+  // with no information on x0.
+  std::array<bool, kFeet> forgotten{};
+  // Touchdown: the foot (and its sole) is forgotten and placed at this sample's kinematics (in both
+  // states; the stance residual ties them, the kinematics residual gives it all its information).
+  const auto touchDown = [&](int i) {
+    placeFoot(i, *contact[i], Lambda0, x1, R_F1);
+    x0.d[i] = x1.d[i];
+    R_F0[i] = R_F1[i];
+    forgotten[i] = true;
+    if (rotation_held_[i]) forgotten[kFlatFeet + i] = true;
+  };
+  for (int i = 0; i < kFeet; ++i)
+    if (contact[i] && !in_contact_[i]) touchDown(i);
 
   // Weights of this step.
   const Matrix15 W_imu = imuWeight(params_.imu, dt);
@@ -366,7 +417,6 @@ void Tsif::step(const StepInput& raw) {
   // the soft one of its contact probability p_c (Q_f of 57.6; p_c = 1: the stance density).
   std::array<double, kFeet> foot_variance_density{};
   std::array<double, kFeet> w_c{};  // its weight: w_c I = (sigma_d^2 dt)^-1 I
-  std::array<bool, kFeet> touched_down{};
   const double sw = params_.foot_swing_density;
   for (int i = 0; i < kFeet; ++i) {
     foot_variance_density[i] = contact[i]
@@ -374,7 +424,17 @@ void Tsif::step(const StepInput& raw) {
                                                                    params_.foot_stance_density, sw)
                                    : sw * sw;
     w_c[i] = 1.0 / (foot_variance_density[i] * dt);
-    touched_down[i] = contact[i] && !in_contact_[i];
+  }
+  // Flat feet: a sole's Log(R_F,k^T R_F,k+1) [rad^2/s] in the blocks of feet 3 and 4, of the
+  // contact at k as the ESKF's (where touchdown settling ends p_c goes from 0 to 1 at k+1).
+  const auto isSole = [&](int j) { return params_.flat_feet && j >= kFlatFeet; };
+  for (int i = 0; params_.flat_feet && i < kFlatFeet; ++i) {
+    const double sw_F = params_.foot_rotation_swing_density;
+    foot_variance_density[kFlatFeet + i] =
+        in_contact_[i] ? contact::softFootNoiseDensity(probability_[i],
+                                                       params_.foot_rotation_stance_density, sw_F)
+                       : sw_F * sw_F;
+    w_c[kFlatFeet + i] = 1.0 / (foot_variance_density[kFlatFeet + i] * dt);
   }
   std::array<bool, kFeet> kinematics{};  // stance feet whose kinematics residual is used
   for (int i = 0; i < kFeet; ++i) kinematics[i] = contact[i] != nullptr;
@@ -382,12 +442,12 @@ void Tsif::step(const StepInput& raw) {
     // The gate (file comment): residuals at the prediction against J P_pred J^T + Cov.
     Matrix27 Lambda_pred =
         betweenMarginal(Lambda0, imuResidual(x0, x1, previous_, dt, params_.gravity), params_.imu,
-                        dt, foot_variance_density, touched_down);
-    for (int i = 0; i < kFeet; ++i)  // a forgotten foot has no information: decoupled here
-      if (touched_down[i]) Lambda_pred.block<3, 3>(footIndex(i), footIndex(i)).setIdentity();
+                        dt, foot_variance_density, forgotten);
+    for (int j = 0; j < kFeet; ++j)  // a forgotten foot has no information: decoupled here
+      if (forgotten[j]) Lambda_pred.block<3, 3>(footIndex(j), footIndex(j)).setIdentity();
     const Eigen::LLT<Matrix27> llt_pred(Lambda_pred);
     for (int i = 0; i < kFeet; ++i) {
-      if (!contact[i] || touched_down[i] || llt_pred.info() != Eigen::Success) continue;
+      if (!contact[i] || forgotten[i] || llt_pred.info() != Eigen::Success) continue;
       Matrix39 J;
       const Eigen::Vector3d r = kinematicsResidual(x1, i, contact[i]->p_body, &J);
       Eigen::Matrix<double, kDim, 9> E =
@@ -406,9 +466,7 @@ void Tsif::step(const StepInput& raw) {
       if (decision == engineering::FootGate::Decision::kGate) {
         kinematics[i] = false;
       } else {  // gated too long: placed anew, as at a touchdown
-        forgetFoot(Lambda0, i);
-        x0.d[i] = x1.d[i] = x1.p + x1.R * contact[i]->p_body;
-        touched_down[i] = true;
+        touchDown(i);
       }
     }
   }
@@ -417,16 +475,29 @@ void Tsif::step(const StepInput& raw) {
   const State prior = x0;
   std::array<Eigen::Matrix3d, kFeet> W_kin{};  // Cov_i^-1 of the kinematics of stance feet
   for (int i = 0; i < kFeet; ++i)
-    if (kinematics[i]) W_kin[i] = kinematicsWeight(*contact[i]);
+    if (kinematics[i]) W_kin[i] = weightOf(contact[i]->cov);
+  // Flat feet: the soles whose residual is used (with their foot's kinematics), rot_cov^-1. A sole
+  // placed at this step is the positions' (it says nothing of the rest); a held one is measured.
+  std::array<bool, kFeet> sole_used{};
+  std::array<Eigen::Matrix3d, kFeet> W_sole{};
+  bool soles_measured = false;
+  for (int i = 0; params_.flat_feet && i < kFlatFeet; ++i) {
+    sole_used[i] = kinematics[i] && rotation_held_[i] && contact[i]->R_body.has_value();
+    if (sole_used[i]) W_sole[i] = weightOf(contact[i]->rot_cov);
+    soles_measured = soles_measured || (sole_used[i] && !forgotten[i]);
+  }
 
   // The linearisation of the last iteration, from which the new information is formed.
-  Matrix27 H_prior;                                   // the prior's information in x0's tangent
-  ImuResidual e;                                      // the IMU residual and its Jacobians
-  Matrix27 H_kin;                                     // the kinematics residuals' information on x1
-  Eigen::Vector3d dtheta1 = Eigen::Vector3d::Zero();  // the attitude step of x1
-  bool feet_used = false;                             // a kinematics residual is in the problem
+  Matrix27 H_prior;  // the prior's information in x0's tangent
+  ImuResidual e;     // the IMU residual and its Jacobians
+  Matrix27 H_kin;    // the kinematics residuals' information on x1 (but the measured soles')
+  Matrix27 H_soles = Matrix27::Zero();   // the measured soles' (flat feet)
+  Vector27 g_soles = Vector27::Zero();   // and their J^T W r
+  Vector27 dx1_last = Vector27::Zero();  // the step of x1
+  bool feet_used = false;                // a kinematics residual is in the problem
   for (int i = 0; i < kFeet; ++i) feet_used = feet_used || kinematics[i];
-  State x1_linearised = x1;  // where the last iteration linearised (H_kin's point)
+  State x1_linearised = x1;      // where the last iteration linearised (H_kin's point)
+  Soles R_F1_linearised = R_F1;  // and its soles
   for (int iteration = 0; iteration < params_.iterations; ++iteration) {
     // Normal equations [H11 H12; H12^T H22] [dx0; dx1] = -[b1; b2].
     Matrix27 H11, H12, H22;
@@ -463,22 +534,35 @@ void Tsif::step(const StepInput& raw) {
     addNavVector(b1, WJ0.transpose() * e.r);
     addNavVector(b2, b2_nav);
 
-    // Feet: r = d_{i,k+1} - d_{i,k}, Jacobians -I and I.
-    for (int i = 0; i < kFeet; ++i) {
-      const int f = footIndex(i);
-      const Eigen::Vector3d r = x1.d[i] - x0.d[i];
-      H11.block<3, 3>(f, f).diagonal().array() += w_c[i];
-      H22.block<3, 3>(f, f).diagonal().array() += w_c[i];
-      H12.block<3, 3>(f, f).diagonal().array() -= w_c[i];
-      b1.segment<3>(f) -= w_c[i] * r;
-      b2.segment<3>(f) += w_c[i] * r;
+    // Feet: r = d_{i,k+1} - d_{i,k} (a sole's Log(R_F,k^T R_F,k+1)), Jacobians -I and I.
+    for (int j = 0; j < kFeet; ++j) {
+      const int f = footIndex(j);
+      const Eigen::Vector3d r = isSole(j) ? R_F1[j - kFlatFeet].rminus(R_F0[j - kFlatFeet])
+                                          : Eigen::Vector3d(x1.d[j] - x0.d[j]);
+      H11.block<3, 3>(f, f).diagonal().array() += w_c[j];
+      H22.block<3, 3>(f, f).diagonal().array() += w_c[j];
+      H12.block<3, 3>(f, f).diagonal().array() -= w_c[j];
+      b1.segment<3>(f) -= w_c[j] * r;
+      b2.segment<3>(f) += w_c[j] * r;
     }
 
-    // Kinematics of the stance feet at k+1, over (dtheta, dp, dd_i) of x1.
+    // Kinematics of the stance feet at k+1, over (dtheta, dp, dd_i) of x1, and their soles over
+    // (dtheta, dphi_i).
     H_kin.setZero();
-    for (int i = 0; i < kFeet; ++i)
+    for (int i = 0; i < kFeet; ++i) {
       if (kinematics[i]) addKinematics(x1, i, *contact[i], W_kin[i], H_kin, b2);
+      if (sole_used[i] && forgotten[i]) addSole(x1, R_F1[i], i, *contact[i], W_sole[i], H_kin, b2);
+    }
     H22 += H_kin;
+    if (soles_measured) {
+      H_soles.setZero();
+      g_soles.setZero();
+      for (int i = 0; i < kFlatFeet; ++i)
+        if (sole_used[i] && !forgotten[i])
+          addSole(x1, R_F1[i], i, *contact[i], W_sole[i], H_soles, g_soles);
+      H22 += H_soles;
+      b2 += g_soles;
+    }
 
     if (params_.imu.gyro_bias_random_walk == 0.0) shareBias(kBg, H11, H12, H22, b1, b2);
     if (params_.imu.accel_bias_random_walk == 0.0) shareBias(kBa, H11, H12, H22, b1, b2);
@@ -494,7 +578,11 @@ void Tsif::step(const StepInput& raw) {
     S.selfadjointView<Eigen::Lower>().rankUpdate(Y.transpose(), -1.0);
     S = S.selfadjointView<Eigen::Lower>();
     const Eigen::LLT<Matrix27> llt22(S);
-    if (llt11.info() != Eigen::Success || llt22.info() != Eigen::Success) {
+    // Flat feet: S without the measured soles, whose step the heading rule takes its part from.
+    Eigen::LLT<Matrix27> llt_positions;
+    if (soles_measured) llt_positions.compute(S - H_soles);
+    if (llt11.info() != Eigen::Success || llt22.info() != Eigen::Success ||
+        (soles_measured && llt_positions.info() != Eigen::Success)) {
       // The contract's failed update: the step is not taken; the filter restarts from its
       // estimate before it, and the sample counts as a first sample.
       health_.record(Fault::kUpdateFailed, in.t);
@@ -502,20 +590,26 @@ void Tsif::step(const StepInput& raw) {
       finishStep(in, imu_admitted);
       return;
     }
-    Vector27 dx1 = -llt22.solve(b2 - Y.transpose() * z);  // S dx1 = -(b2 - H21 H11^-1 b1)
-    if (!params_.feet_correct_yaw && feet_used) {         // the heading rule: dx1 <- (I - E) dx1
-      const Heading h = heading(x1);
-      dx1 -= h.V * (h.B.transpose() * dx1);
+    const Vector27 b = b2 - Y.transpose() * z;  // b2 - H21 H11^-1 b1
+    Vector27 dx1 = -llt22.solve(b);             // S dx1 = -b
+    if (!params_.feet_correct_yaw && feet_used) {
+      // The heading rule: dx1 <- dx1 - E dx1_positions, the heading part of the step that the
+      // positions alone take ((I - E) dx1 with point feet; file comment, "Flat feet").
+      const Heading h = heading(x1, R_F1, params_.flat_feet);
+      const Vector27 dx1_positions =
+          soles_measured ? Vector27(-llt_positions.solve(b - g_soles)) : dx1;
+      dx1 -= h.V * (h.B.transpose() * dx1_positions);
     }
     Vector27 dx0 = -(z + Y * dx1);  // H11 dx0 = -(b1 + H12 dx1)
     llt11.matrixU().solveInPlace(dx0);
     // A shared (constant) bias moves in both states.
     if (params_.imu.gyro_bias_random_walk == 0.0) dx0.segment<3>(kBg) = dx1.segment<3>(kBg);
     if (params_.imu.accel_bias_random_walk == 0.0) dx0.segment<3>(kBa) = dx1.segment<3>(kBa);
-    x0 = x0.plus(dx0);
+    x0 = plus(x0, dx0, params_.flat_feet, R_F0);
     x1_linearised = x1;
-    x1 = x1.plus(dx1);
-    dtheta1 = dx1.segment<3>(kTheta);
+    R_F1_linearised = R_F1;
+    x1 = plus(x1, dx1, params_.flat_feet, R_F1);
+    dx1_last = dx1;
     ++last_iterations_;
     last_step_norm2_ = dx1.dot(S.selfadjointView<Eigen::Lower>() * dx1);
     if (last_step_norm2_ < params_.step_tolerance) break;
@@ -523,23 +617,26 @@ void Tsif::step(const StepInput& raw) {
 
   x1.R = lie::SO3d::fromQuaternion(x1.R.quaternion());  // remove rounding drift
   x_ = x1;
+  foot_R_ = R_F1;
   // The new information: S again, but in covariance form (betweenMarginal), where rounding does
   // not eat the small information of the unobservable states.
   Matrix27 P_pred;  // its inverse, the covariance of the IMU prediction
-  Lambda_ =
-      betweenMarginal(H_prior, e, params_.imu, dt, foot_variance_density, touched_down, &P_pred);
+  Lambda_ = betweenMarginal(H_prior, e, params_.imu, dt, foot_variance_density, forgotten, &P_pred);
   if (!params_.feet_correct_yaw && feet_used) {
     // The heading rule's covariance, P+ = P_opt + V C V^T (eskf.hpp: P - Q + E Q E^T, with
     // Q = P_pred - P_opt and E = V B^T), C = B^T Q B the 2 x 2 that the feet took from the
     // heading, in information form by the inversion lemma: Lambda+ = Lambda_opt - Lambda_opt V
     // C (I + V^T Lambda_opt V C)^-1 V^T Lambda_opt. A forgotten foot (no information yet) is
-    // decoupled from the heading: an identity block stands in for it in P_pred.
-    const Heading h = heading(x1_linearised);
-    const Matrix27 Lambda_opt = Lambda_ + H_kin;
+    // decoupled from the heading: an identity block stands in for it in P_pred. With flat feet
+    // C = B^T (P_pred - P_positions) B, the positions' alone (file comment, "Flat feet").
+    const Heading h = heading(x1_linearised, R_F1_linearised, params_.flat_feet);
+    const Matrix27 Lambda_positions = Lambda_ + H_kin;
+    const Matrix27 Lambda_opt =
+        soles_measured ? Matrix27(Lambda_positions + H_soles) : Lambda_positions;
     // Lambda_pred^-1 B = P_pred B: betweenMarginal's M gives it without a factorisation.
     const Eigen::Matrix<double, kDim, 2> PB_pred = P_pred.lazyProduct(h.B);
-    const Eigen::Matrix<double, kDim, 2> PB_opt = Lambda_opt.llt().solve(h.B);
-    Eigen::Matrix2d C = h.B.transpose() * (PB_pred - PB_opt);
+    const Eigen::Matrix<double, kDim, 2> PB_positions = Lambda_positions.llt().solve(h.B);
+    Eigen::Matrix2d C = h.B.transpose() * (PB_pred - PB_positions);
     C = 0.5 * (C + C.transpose()).eval();
     const Eigen::Matrix<double, kDim, 2> LV = Lambda_opt.lazyProduct(h.V);
     const Eigen::Matrix2d inner = Eigen::Matrix2d::Identity() + h.V.transpose() * LV * C;
@@ -547,16 +644,37 @@ void Tsif::step(const StepInput& raw) {
     Lambda_ = Lambda_opt - LVK.lazyProduct(LV.transpose());
   } else {
     Lambda_ += H_kin;
+    if (soles_measured) Lambda_ += H_soles;
   }
   // That information is in the tangent at x1 before its step; moved to the tangent at x1 (+) dx1
-  // (the ESKF's reset): dtheta+ = G dtheta, G = I - [dtheta1 / 2]_x, so Lambda <- G^-T Lambda G^-1.
-  const Eigen::Matrix3d G_inv =
-      (Eigen::Matrix3d::Identity() - lie::hat3(Eigen::Vector3d(0.5 * dtheta1))).inverse();
-  Lambda_.leftCols<3>() = Lambda_.leftCols<3>().lazyProduct(G_inv).eval();
-  Lambda_.topRows<3>() = G_inv.transpose().lazyProduct(Lambda_.topRows<3>()).eval();
+  // (the ESKF's reset): dtheta+ = G dtheta, G = I - [dtheta1 / 2]_x, so Lambda <- G^-T Lambda G^-1
+  // (and so on each flat foot's sole, G = I - [dphi1 / 2]_x).
+  const auto moveTangent = [&](int at) {
+    const Eigen::Matrix3d G_inv =
+        (Eigen::Matrix3d::Identity() - lie::hat3(Eigen::Vector3d(0.5 * dx1_last.segment<3>(at))))
+            .inverse();
+    Lambda_.middleCols<3>(at) = Lambda_.middleCols<3>(at).lazyProduct(G_inv).eval();
+    Lambda_.middleRows<3>(at) = G_inv.transpose().lazyProduct(Lambda_.middleRows<3>(at)).eval();
+  };
+  moveTangent(kTheta);
+  for (int i = 0; params_.flat_feet && i < kFlatFeet; ++i) moveTangent(rotationIndex(i));
   Lambda_ = 0.5 * (Lambda_ + Lambda_.transpose()).eval();
-  for (int i = 0; i < kFeet; ++i) in_contact_[i] = contact[i] != nullptr;
+  for (int i = 0; i < kFeet; ++i) holdContact(i, contact[i]);
   finishStep(in, imu_admitted);
+}
+
+void Tsif::placeFoot(int i, const ContactMeasurement& c, Matrix27& Lambda, State& x, Soles& R_F) {
+  forgetBlock(Lambda, footIndex(i));
+  x.d[i] = x.p + x.R * c.p_body;                                  // d = p + R p_body
+  rotation_held_[i] = params_.flat_feet && c.R_body.has_value();  // flat: i < kFlatFeet
+  if (!rotation_held_[i]) return;
+  forgetBlock(Lambda, rotationIndex(i));
+  R_F[i] = lie::SO3d::fromQuaternion(Eigen::Quaterniond(x.R.matrix() * *c.R_body));  // R_F = R Z
+}
+
+void Tsif::holdContact(int i, const ContactMeasurement* c) {
+  in_contact_[i] = c != nullptr;
+  probability_[i] = c ? c->probability : 0.0;
 }
 
 void Tsif::finishStep(const StepInput& in, bool imu_admitted) {

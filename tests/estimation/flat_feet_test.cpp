@@ -1,8 +1,8 @@
-// Flat feet in the ESKF and the InEKF (section 57.5; the "Flat feet" paragraphs of
-// estimation/invariant/eskf.hpp and invariant_ekf.hpp) on a simulated biped: feet 0 and 1 of the
-// trot, which stand in turn as a walking biped's do. Each is given a sole whose world orientation
-// R_F stays fixed from its touchdown to its lift-off, measured through the body as a robot's
-// kinematics would: Z = R^T R_F Exp(n), n ~ N(0, sigma^2 I).
+// Flat feet in the ESKF, the InEKF and the TSIF (section 57.5; the "Flat feet" paragraphs of
+// estimation/invariant/eskf.hpp, invariant_ekf.hpp and tsif.hpp) on a simulated biped: feet 0 and 1
+// of the trot, which stand in turn as a walking biped's do. Each is given a sole whose world
+// orientation R_F stays fixed from its touchdown to its lift-off, measured through the body as a
+// robot's kinematics would: Z = R^T R_F Exp(n), n ~ N(0, sigma^2 I).
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
@@ -12,6 +12,7 @@
 
 #include "estimation/invariant/eskf.hpp"
 #include "estimation/invariant/invariant_ekf.hpp"
+#include "estimation/invariant/tsif.hpp"
 #include "eval/consistency.hpp"
 #include "eval/metrics.hpp"
 #include "eval/runner.hpp"
@@ -78,7 +79,7 @@ struct EskfFlat {
   // R_F = R_F,hat Exp(dphi): local, as the attitude.
   static std::optional<SoleError> sole(const Filter& f, int i, const lie::SO3d& R_F) {
     if (!f.inContact(i)) return std::nullopt;
-    const int at = invariant::eskf::footIndex(invariant::eskf::kFlatFeet + i);
+    const int at = invariant::eskf::rotationIndex(i);
     return SoleError{R_F.rminus(f.footRotation(i)), f.P().block<3, 3>(at, at)};
   }
   static std::pair<double, double> biasZ(const Filter& f) {
@@ -101,6 +102,22 @@ struct InekfFlat {
   static std::pair<double, double> biasZ(const Filter& f) {
     const int z = 3 + 3 * static_cast<int>(f.X().numCols()) + 2;  // b_g after xi
     return {f.b_g().z(), std::sqrt(f.P()(z, z))};
+  }
+};
+
+struct TsifFlat {
+  using Filter = invariant::Tsif;
+  using Params = invariant::TsifParams;
+  // The ESKF's local error, R_F = R_F,hat Exp(dphi), its covariance the block of Lambda^-1.
+  static std::optional<SoleError> sole(const Filter& f, int i, const lie::SO3d& R_F) {
+    if (!f.inContact(i)) return std::nullopt;
+    const int at = invariant::tsif::rotationIndex(i);
+    const invariant::tsif::Matrix27 P = f.information().inverse();
+    return SoleError{R_F.rminus(f.footRotation(i)), P.block<3, 3>(at, at)};
+  }
+  static std::pair<double, double> biasZ(const Filter& f) {
+    const int z = invariant::tsif::kBg + 2;
+    return {f.state().b_g.z(), std::sqrt(f.information().inverse()(z, z))};
   }
 };
 
@@ -161,7 +178,7 @@ Errors run(const Biped& b, const typename Flat::Params& params, unsigned seed) {
 }  // namespace
 
 TEMPLATE_TEST_CASE("Flat feet: the base and the soles stay consistent over a Monte Carlo of runs",
-                   "[57.5][eskf][inekf][flat-feet]", EskfFlat, InekfFlat) {
+                   "[57.5][eskf][inekf][tsif][flat-feet]", EskfFlat, InekfFlat, TsifFlat) {
   constexpr int kRuns = 20;
   const auto params = bipedParams<TestType>(true);
   std::vector<double> anees;
@@ -195,7 +212,7 @@ TEMPLATE_TEST_CASE("Flat feet: the base and the soles stay consistent over a Mon
 
 TEMPLATE_TEST_CASE(
     "Flat feet: the soles learn the gyro bias about the vertical that point feet may not",
-    "[57.5][eskf][inekf][flat-feet][heading]", EskfFlat, InekfFlat) {
+    "[57.5][eskf][inekf][tsif][flat-feet][heading]", EskfFlat, InekfFlat, TsifFlat) {
   // A turn-on bias of 0.005 rad/s about the body's z (a MEMS gyro's, 0.3 deg/s; 2.5 sigma of
   // the filters' prior): with point feet the heading rule leaves the heading to the gyro, which
   // drifts with the bias; a standing sole shows the body's rotation against a foot that does not
