@@ -167,6 +167,8 @@ expect 2 "shards of different splits" "$legkit" merge m s2-1 s3-2
 expect 2 "kind" "$legkit" merge m s2-1 convergence-2-2
 "${study[@]}" --seed 7 --shard 2/2 --out seed7 > /dev/null 2>&1
 expect 2 "option 'seed'" "$legkit" merge m s2-1 seed7
+"${study[@]}" --correct-yaw --shard 2/2 --out plain > /dev/null 2>&1
+expect 2 "option 'correct_yaw'" "$legkit" merge m s2-1 plain
 cp -r s2-2 version
 sed -i 's/"legkit_version": "[^"]*"/"legkit_version": "0.0.0"/' version/shard.json
 expect 2 "legkit_version" "$legkit" merge m s2-1 version
