@@ -70,9 +70,11 @@ void checkStepInput(const StepInput& in, int max_feet, const char* who) {
       footFail(os.str());
     }
     if (c.v_body && !c.v_body->allFinite()) footFail("v_body is not finite");
-    const auto checkCovariance = [&](const Eigen::Matrix3d& C, const std::string& name) {
-      if (!C.allFinite()) footFail(name + " is not finite");
-      if (!isSymmetric(C)) footFail(name + " is not symmetric");
+    // `name` stays a C string until a check fails: a std::string of it would allocate on every
+    // step ("orientation covariance" is past the short-string buffer).
+    const auto checkCovariance = [&](const Eigen::Matrix3d& C, const char* name) {
+      if (!C.allFinite()) footFail(std::string(name) + " is not finite");
+      if (!isSymmetric(C)) footFail(std::string(name) + " is not symmetric");
       // Sylvester's criterion: the three leading principal minors are positive (LLT decides
       // where the minors overflow).
       const bool minors =
@@ -81,7 +83,7 @@ void checkStepInput(const StepInput& in, int max_feet, const char* who) {
       // An overflowing pivot can leave a NaN in the factor while info() says Success.
       const Eigen::LLT<Eigen::Matrix3d> llt(C);
       if (llt.info() != Eigen::Success || !llt.matrixLLT().allFinite()) {
-        footFail(name + " is not positive definite");
+        footFail(std::string(name) + " is not positive definite");
       }
     };
     checkCovariance(c.cov, "covariance");

@@ -17,6 +17,7 @@
 #include "filter_family.hpp"
 #include "lie/imu_dynamics.hpp"
 #include "lie/sek3.hpp"
+#include "random_state.hpp"
 #include "sim/simulator.hpp"
 #include "trot_log.hpp"
 
@@ -28,51 +29,24 @@ using eskf::State;
 using eskf::Vector27;
 using legkit::test::checkFamilyParamsRefused;
 using legkit::test::checkStepFaultsRefused;
+using legkit::test::exactMotion;
 using legkit::test::inputsOf;
 using legkit::test::monteCarloNees;
 using legkit::test::NeesResult;
 using legkit::test::normal3;
+using legkit::test::randomState;
 using legkit::test::simulatorFrontend;
 using legkit::test::stepToTwoFeet;
 using legkit::test::trotLog;
+using legkit::test::unitError;
 constexpr auto kLocal = legkit::test::AttitudeError::kLocal;
 
 namespace {
-
-State randomState(std::mt19937& gen) {
-  State x;
-  x.R = lie::SO3d::Random(gen);
-  x.v = normal3(gen, 1.0);
-  x.p = normal3(gen, 2.0);
-  for (Eigen::Vector3d& d : x.d) d = normal3(gen, 2.0);
-  x.b_g = normal3(gen, 0.05);
-  x.b_a = normal3(gen, 0.3);
-  return x;
-}
 
 Vector27 randomError(std::mt19937& gen, double sigma) {
   Vector27 dx;
   for (int i = 0; i < kDim; ++i) dx(i) = std::normal_distribution<double>(0.0, sigma)(gen);
   return dx;
-}
-
-// The nominal step by an independent route: lie::imu::propagate on SE_2(3).
-State exactMotion(const State& x0, const model::ImuReading& u, double dt) {
-  lie::SE23d::Columns C;
-  C << x0.v, x0.p;
-  const lie::SE23d X1 = lie::imu::propagate(lie::SE23d(x0.R, C), Eigen::Vector3d(u.w_m - x0.b_g),
-                                            Eigen::Vector3d(u.a_m - x0.b_a), model::gravity(), dt);
-  State x1 = x0;
-  x1.R = X1.rotation();
-  x1.v = X1.col(0);
-  x1.p = X1.col(1);
-  return x1;
-}
-
-Vector27 unit(int i, double h) {
-  Vector27 e = Vector27::Zero();
-  e(i) = h;
-  return e;
 }
 
 // Central differences of the error after one nominal step of length dt:
@@ -81,8 +55,8 @@ Matrix27 numericPhi(const State& x, const model::ImuReading& u, double dt, doubl
   const State next = exactMotion(x, u, dt);
   Matrix27 Phi;
   for (int j = 0; j < kDim; ++j) {
-    Phi.col(j) = (exactMotion(x.plus(unit(j, eps)), u, dt).minus(next) -
-                  exactMotion(x.plus(unit(j, -eps)), u, dt).minus(next)) /
+    Phi.col(j) = (exactMotion(x.plus(unitError(j, eps)), u, dt).minus(next) -
+                  exactMotion(x.plus(unitError(j, -eps)), u, dt).minus(next)) /
                  (2 * eps);
   }
   return Phi;
@@ -207,7 +181,7 @@ TEST_CASE("ESKF: the foot measurement and its Jacobian", "[57.5][eskf]") {
     eskf::Matrix39 N;
     for (int b = 0; b < 3; ++b) {
       for (int j = 0; j < 3; ++j) {
-        const Vector27 s = unit(blocks[b] + j, h);
+        const Vector27 s = unitError(blocks[b] + j, h);
         N.col(3 * b + j) =
             (eskf::footInBody(x.plus(s), i) - eskf::footInBody(x.plus(-s), i)) / (2 * h);
       }
@@ -218,7 +192,7 @@ TEST_CASE("ESKF: the foot measurement and its Jacobian", "[57.5][eskf]") {
       if (j < eskf::kTheta + 3) continue;
       if (j >= eskf::kP && j < eskf::kP + 3) continue;
       if (j >= eskf::footIndex(i) && j < eskf::footIndex(i) + 3) continue;
-      CHECK((eskf::footInBody(x.plus(unit(j, 0.1)), i) - z).norm() == 0.0);
+      CHECK((eskf::footInBody(x.plus(unitError(j, 0.1)), i) - z).norm() == 0.0);
     }
   }
 }

@@ -10,6 +10,7 @@
 #include <tuple>
 #include <vector>
 
+#include "allocation_counter.hpp"
 #include "estimation/invariant/eskf.hpp"
 #include "estimation/invariant/invariant_ekf.hpp"
 #include "estimation/invariant/tsif.hpp"
@@ -243,6 +244,23 @@ TEMPLATE_TEST_CASE(
   CHECK(sigma_flat < 0.8 * sigma_point);
   CHECK(sigma_point > 0.99 * bipedParams<TestType>(false).sigma_gyro_bias);  // the heading rule's
   CHECK(tilt_flat < tilt_point);
+}
+
+TEMPLATE_TEST_CASE("Flat feet: no heap allocation per step, through touchdowns and lift-offs",
+                   "[57.5][eskf][inekf][tsif][flat-feet]", EskfFlat, InekfFlat, TsifFlat) {
+  const Biped b = bipedRun(5, model::ImuBias{}, 2.0);
+  int changes = 0;  // touchdowns and lift-offs
+  for (std::size_t k = 1; k < b.sole.size(); ++k) {
+    for (int i = 0; i < 2; ++i) changes += b.sole[k][i].has_value() != b.sole[k - 1][i].has_value();
+  }
+  REQUIRE(changes >= 4);  // each sole lands and lifts in these 2 s
+  typename TestType::Filter filter(bipedParams<TestType>(true));  // built before counting
+  const long before = test::allocationCount();
+  filter.reset(b.truth.front());
+  for (const StepInput& in : b.inputs) filter.step(in);
+  CHECK(test::allocationCount() - before == 0);
+  CHECK(filter.estimate().t == b.inputs.back().t);  // it did run
+  CHECK(filter.health().healthy());
 }
 
 TEST_CASE("Flat feet: a third foot has no slot, a sole that is no rotation is refused",

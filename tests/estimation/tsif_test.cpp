@@ -15,17 +15,21 @@
 #include "filter_family.hpp"
 #include "lie/imu_dynamics.hpp"
 #include "lie/sek3.hpp"
+#include "random_state.hpp"
 #include "sim/simulator.hpp"
 #include "trot_log.hpp"
 
 using namespace legkit;
 using namespace legkit::invariant;
 using legkit::test::describe;
+using legkit::test::exactMotion;
 using legkit::test::inputsOf;
 using legkit::test::monteCarloNees;
 using legkit::test::NeesResult;
 using legkit::test::normal3;
+using legkit::test::randomState;
 using legkit::test::trotLog;
+using legkit::test::unitError;
 using tsif::kDim;
 using tsif::Matrix15;
 using tsif::State;
@@ -34,36 +38,6 @@ using tsif::Vector27;
 namespace {
 
 constexpr std::array<int, 5> kNav = {tsif::kTheta, tsif::kV, tsif::kP, tsif::kBg, tsif::kBa};
-
-State randomState(std::mt19937& gen) {
-  State x;
-  x.R = lie::SO3d::Random(gen);
-  x.v = normal3(gen, 1.0);
-  x.p = normal3(gen, 2.0);
-  for (Eigen::Vector3d& d : x.d) d = normal3(gen, 2.0);
-  x.b_g = normal3(gen, 0.05);
-  x.b_a = normal3(gen, 0.3);
-  return x;
-}
-
-// x1 from x0 by the exact constant-input motion the IMU residual describes.
-State exactMotion(const State& x0, const model::ImuReading& u, double dt) {
-  lie::SE23d::Columns C;
-  C << x0.v, x0.p;
-  const lie::SE23d X1 = lie::imu::propagate(lie::SE23d(x0.R, C), Eigen::Vector3d(u.w_m - x0.b_g),
-                                            Eigen::Vector3d(u.a_m - x0.b_a), model::gravity(), dt);
-  State x1 = x0;
-  x1.R = X1.rotation();
-  x1.v = X1.col(0);
-  x1.p = X1.col(1);
-  return x1;
-}
-
-Vector27 unit(int i, double h) {
-  Vector27 e = Vector27::Zero();
-  e(i) = h;
-  return e;
-}
 
 }  // namespace
 
@@ -120,7 +94,7 @@ TEST_CASE("TSIF: analytic Jacobians agree with central differences", "[57.5][tsi
     Matrix15 J0, J1;
     for (int b = 0; b < 5; ++b) {
       for (int j = 0; j < 3; ++j) {
-        const Vector27 s = unit(kNav[b] + j, h);
+        const Vector27 s = unitError(kNav[b] + j, h);
         J0.col(3 * b + j) = (tsif::imuResidual(x0.plus(s), x1, u, dt).r -
                              tsif::imuResidual(x0.plus(-s), x1, u, dt).r) /
                             (2 * h);
@@ -151,7 +125,7 @@ TEST_CASE("TSIF: analytic Jacobians agree with central differences", "[57.5][tsi
     const std::array<int, 3> blocks = {tsif::kTheta, tsif::kP, tsif::footIndex(i)};
     for (int b = 0; b < 3; ++b) {
       for (int j = 0; j < 3; ++j) {
-        const Vector27 s = unit(blocks[b] + j, h);
+        const Vector27 s = unitError(blocks[b] + j, h);
         N.col(3 * b + j) = (tsif::kinematicsResidual(x1.plus(s), i, p_body) -
                             tsif::kinematicsResidual(x1.plus(-s), i, p_body)) /
                            (2 * h);
@@ -441,8 +415,8 @@ TEST_CASE("TSIF: Monte Carlo NEES on the default trot", "[57.5][tsif][nees]") {
   const NeesResult r = monteCarloNees<Tsif>(20, TsifParams{}, 1.0, FrontendNoise{},
                                             legkit::test::AttitudeError::kLocal);
   WARN("TSIF: " << describe(r));
-  // Measured (seeds 1000 + run): ANEES per dof 0.81, 50 % of the rows inside the bounds, none above.
-  // The filter is slightly conservative, not consistent in the strict sense: the front end
+  // Measured (seeds 1000 + run): ANEES per dof 0.81, 50 % of the rows inside the bounds, none
+  // above. The filter is slightly conservative, not consistent in the strict sense: the front end
   // gives each stance foot a 5 mm contact-point sigma, white from sample to sample, while the
   // simulated kinematics are exact up to encoder noise (about 0.05 mm), and a simulated foot
   // never slips although foot_stance_density lets it. Velocity and horizontal position are
