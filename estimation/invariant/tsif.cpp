@@ -404,9 +404,10 @@ void Tsif::step(const StepInput& raw) {
   const auto touchDown = [&](int i) {
     placeFoot(i, *contact[i], Lambda0, x1, R_F1);
     x0.d[i] = x1.d[i];
-    R_F0[i] = R_F1[i];
     forgotten[i] = true;
-    if (rotation_held_[i]) forgotten[kFlatFeet + i] = true;
+    if (!rotation_held_[i]) return;  // held only by a flat foot, i < kFlatFeet
+    R_F0[i] = R_F1[i];
+    forgotten[kFlatFeet + i] = true;
   };
   for (int i = 0; i < kFeet; ++i)
     if (contact[i] && !in_contact_[i]) touchDown(i);
