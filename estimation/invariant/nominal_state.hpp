@@ -33,12 +33,17 @@ constexpr int footIndex(int i) {
 }
 // Flat feet (FilterParams::flat_feet): a humanoid's two soles, each foot with its position d_i
 // and its rotation R_F,i, whose error dphi_i takes the blocks of a quadruped's feet 3 and 4.
+// Structural, not tuned: two feet with rotations fill the 12 numbers of four point feet, so the
+// error vector stays kDim long (a third foot is refused a slot: FootSlots).
 constexpr int kFlatFeet = 2;
 constexpr int rotationIndex(int i) {
   return footIndex(kFlatFeet + i);
 }
 // A flat foot's rotation before its first touchdown (the foot turns freely): its prior at reset
-// [rad].
+// [rad], 1 rad (57 deg) per axis saying "unknown", as foot_init_sigma's 1 m does for a foot's
+// position. It is never used as information: the first touchdown places the sole from its
+// measurement (R_F = R Z) and replaces its rows of P, so no result depends on it (the iCub and
+// biped runs place every sole that way).
 constexpr double kFootRotationPrior = 1.0;
 
 using Vector27 = Eigen::Matrix<double, kDim, 1>;
