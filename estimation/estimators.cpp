@@ -31,6 +31,8 @@ std::unique_ptr<Estimator> makeEstimator(const std::string& name, const Settings
   family.foot_stance_density = s.feet.stance_density;
   family.foot_swing_density = s.feet.swing_density;
   family.feet_correct_yaw = s.feet.correct_yaw;
+  family.heading_turn_rate = s.feet.heading_turn_rate;
+  family.heading_turn_time = s.feet.heading_turn_time;
   family.flat_feet = s.feet.flat;
   family.foot_rotation_stance_density = s.feet.rotation_stance_density;
   family.sigma_attitude = s.priors.sigma_attitude;

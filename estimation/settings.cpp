@@ -369,6 +369,18 @@ const std::vector<Node>& schema() {
                    "stance feet may correct the heading (yaw and the gyro bias about the "
                    "vertical), which they cannot observe: false keeps the gyro's heading (the "
                    "heading rule of section 57.5)"),
+               number(
+                   "heading_turn_rate", [](S& s) -> double& { return s.feet.heading_turn_rate; },
+                   0, 10,
+                   "the yaw rate from which no stance foot corrects the heading (the heading "
+                   "rule); below it the feet may, in proportion, so that they learn the "
+                   "vertical gyro bias while the robot walks straight; 0: never (section 57.5) "
+                   "[rad/s]"),
+               number(
+                   "heading_turn_time", [](S& s) -> double& { return s.feet.heading_turn_time; },
+                   1e-3, 100,
+                   "the low-pass of that yaw rate, and how long the feet leave the heading "
+                   "alone after a slip [s]"),
                flag(
                    "flat", [](S& s) -> bool& { return s.feet.flat; },
                    "flat feet (a humanoid's soles): the ESKF, the InEKF and the TSIF also use each "

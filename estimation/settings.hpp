@@ -93,6 +93,9 @@ struct FootSettings {
   double stance_density = 1e-3;  // [m/sqrt(s)] a stance foot's slip allowance
   double swing_density = 2.0;    // [m/sqrt(s)] a swing foot (the soft-contact end of p_c = 0)
   bool correct_yaw = false;      // stance feet may correct the heading (ESKF, InEKF, TSIF)
+  // The heading rule's share by the turn rate (invariant/filter_params.hpp says why these).
+  double heading_turn_rate = 0.05;  // [rad/s] the whole rule from this yaw rate on; 0: always
+  double heading_turn_time = 1.0;   // [s] the yaw rate's low-pass and the hold after a slip
   // Flat feet (a humanoid's soles, section 57.5): the ESKF, the InEKF and the TSIF carry each
   // stance foot's orientation too, measured from the robot's model (frontend.foot_rotation_sigma);
   // the linear KF uses the feet as points.

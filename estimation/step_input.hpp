@@ -19,6 +19,9 @@ struct StepInput {
   int num_contacts = 0;
   std::array<double, leg_odometry::kMaxContacts> normal_force{};  // per contact, when known [N]
   bool has_force = false;
+  // The slip detector accused a foot at this sample and its reaction (slip::SlipGuard) acted: the
+  // filters hold their heading rule whole (invariant/heading_rule.hpp).
+  bool slip = false;
 
   leg_odometry::ContactSpan stance() const {
     return {contacts.data(), static_cast<std::size_t>(num_contacts)};

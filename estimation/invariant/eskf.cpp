@@ -96,6 +96,7 @@ void requireParam(bool ok, const char* what) {
 Eskf::Eskf(const EskfParams& params)
     : params_(params),
       gate_(params.gating, "Eskf"),
+      heading_(params.heading_turn_rate, params.heading_turn_time),
       pose_gate_(fusion::poseGateThreshold(params.gating)),
       slots_(params.flat_feet ? kFlatFeet : kFeet) {
   checkFilterParams(params, "Eskf", false);  // zero densities: exact legs, constant bias
@@ -128,6 +129,7 @@ void Eskf::reset(const EstimateSample& x0) {
   rotation_held_.fill(false);
   slots_.reset();
   gate_.reset();
+  heading_.reset();
   nis_windows_.reset();
   startHealth(x0);
   t_ = x0.t;
@@ -242,13 +244,15 @@ Eskf::Update Eskf::correct(int i, const std::array<int, Blocks>& cols,
   Matrix27x3 K = PHt.lazyProduct(llt.solve(Matrix3::Identity()));
   // The rule is the feet's positions' (their yaw comes through the legs' scale); a sole's
   // rotation keeps its heading information (file comment, "Flat feet").
-  if (!params_.feet_correct_yaw && position) {
-    // The heading stays the gyro's (file comment): K <- (I - E) K. E K is the heading row
+  const double alpha = params_.feet_correct_yaw ? 0.0 : heading_.alpha();
+  if (position && alpha > 0.0) {
+    // The heading stays the gyro's (file comment): K <- (I - alpha E) K. E K is the heading row
     // psi = up^T K_theta (up = R_hat^T e_z, the vertical in the local error) times the turn of the
     // robot about its base (up on the attitude, e_z x v on the velocity, e_z x (d_i - p) on the
-    // feet, R_F^T e_z on a flat foot's rotation), and the gyro bias's part along up.
+    // feet, R_F^T e_z on a flat foot's rotation), and the gyro bias's part along up; alpha the
+    // rule's share by the turn rate (heading_rule.hpp).
     const Vector3 up = x_.R.matrix().row(2).transpose();
-    const Eigen::RowVector3d psi = up.transpose() * K.middleRows<3>(kTheta);
+    const Eigen::RowVector3d psi = alpha * up.transpose() * K.middleRows<3>(kTheta);
     const auto turned = [](const Vector3& x) { return Vector3(-x.y(), x.x(), 0.0); };  // e_z x x
     K.middleRows<3>(kTheta) -= up * psi;
     K.middleRows<3>(kV) -= turned(x_.v) * psi;
@@ -258,7 +262,7 @@ Eskf::Update Eskf::correct(int i, const std::array<int, Blocks>& cols,
     for (int j = 0; params_.flat_feet && j < kFlatFeet; ++j) {
       K.middleRows<3>(rotationIndex(j)) -= foot_R_[j].matrix().row(2).transpose() * psi;
     }
-    K.middleRows<3>(kBg) -= up * (up.transpose() * K.middleRows<3>(kBg));
+    K.middleRows<3>(kBg) -= alpha * up * (up.transpose() * K.middleRows<3>(kBg));
   }
   dx.noalias() += K * r;
 
@@ -374,7 +378,10 @@ void Eskf::step(const StepInput& raw) {
   InputCopies copies;
   const auto [in, imu_admitted] = admit(raw, has_previous_, params_.limits, "Eskf", copies, slots_);
 
-  if (has_previous_ && in.dt > 0.0) predict(in.dt);
+  if (has_previous_ && in.dt > 0.0) {
+    predict(in.dt);
+    heading_.add(yawRate(x_.R.matrix(), previous_.w_m, x_.b_g), in.dt, in.slip);
+  }
 
   // Feet in stance at the previous sample and now are measurements; the others touch down.
   Vector27 dx = Vector27::Zero();

@@ -59,15 +59,19 @@
 // the rule no foot corrects the heading: the gain loses the part that turns the robot about the
 // vertical through its base (the attitude, the velocity and the feet about the base turned
 // together, the position kept) and the part along the gyro bias about the vertical, R_hat^T e_z,
-//   K <- (I - E) K,   P <- P - K S K^T + (E K) S (E K)^T   (the Joseph form, exact for any gain),
-// and the heading drifts as the gyro integrates it. Measured (legkit run --scenario ..., chapter
-// 57.5): physics-real yaw 1.44 deg (the gyro alone 1.46; with heading corrections 5.7-6.0),
-// position 0.09 m (0.13); the ideal physics trot, where the exact leg scale lets the feet learn
-// the bias, pays for it: yaw 1.59 against 0.65-0.90, position 0.21-0.25 m against 0.20-0.23 m.
-// The default, because it holds on every robot measured: on the eight physics scenarios each
-// filter's yaw stays within 0.02 deg of the gyro's (0.04 on the iCub log), where heading
-// corrections lose it on physics-real (above) and physics-ice (2.7 / 1.6 deg against 0.70). What
-// it costs is on a robot whose legs are exact, whose feet would learn the gyro bias: the 300 s
+//   K <- (I - alpha E) K   (the Joseph form below is exact for any gain),
+// and the heading drifts as the gyro integrates it. alpha (heading_rule.hpp) is the rule's share:
+// 1 while the robot turns (the low-passed yaw rate at FilterParams::heading_turn_rate or more)
+// and while the slip detector accuses a foot, falling to 0 as the robot walks straight, where a
+// leg-scale error tells no false turn and the feet may learn the vertical gyro bias (57.5, "Its
+// share by the turn rate", measures it). Measured with the whole rule (alpha = 1; legkit run
+// --scenario ..., chapter 57.5): physics-real yaw 1.44 deg (the gyro alone 1.46; with
+// heading corrections 5.7-6.0), position 0.09 m (0.13); the ideal physics trot, where the exact leg
+// scale lets the feet learn the bias, pays for it: yaw 1.59 against 0.65-0.90, position 0.21-0.25 m
+// against 0.20-0.23 m. The default, because it holds on every robot measured: on the eight physics
+// scenarios each filter's yaw stays within 0.02 deg of the gyro's (0.04 on the iCub log), where
+// heading corrections lose it on physics-real (above) and physics-ice (2.7 / 1.6 deg against 0.70).
+// What it costs is on a robot whose legs are exact, whose feet would learn the gyro bias: the 300 s
 // analytic trot (legkit run --scenario trot --duration 300 --config FILE with correct_yaw true /
 // false): yaw 1.5 / 0.7 deg (ESKF / InEKF) against the rule's 5.4 and the gyro's 4.7, position
 // 1.9 / 0.7 m against 4.6 / 1.9 m. And a defect not yet understood: there the ESKF's (and the
@@ -148,6 +152,7 @@
 #include "estimation/fusion/pose_measurement.hpp"
 #include "estimation/innovation_windows.hpp"
 #include "estimation/invariant/filter_params.hpp"
+#include "estimation/invariant/heading_rule.hpp"
 #include "estimation/invariant/nominal_state.hpp"
 #include "lie/so3.hpp"
 #include "model/imu_model.hpp"
@@ -240,6 +245,7 @@ class Eskf final : public Estimator {
 
   EskfParams params_;
   engineering::FootGate gate_;
+  HeadingRule heading_;            // alpha of the heading rule (heading_rule.hpp)
   InnovationWindows nis_windows_;  // the stance-foot NIS (stanceInnovations())
   double pose_gate_;  // chi-square quantile of 6 dof for the pose innovation (file comment)
   FootSlots<eskf::kFeet> slots_;  // foot ids of the log -> this filter's foot states

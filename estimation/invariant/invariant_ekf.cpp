@@ -120,6 +120,7 @@ InvariantEkfParams InvariantEkfParams::hartleyExample() {
 InvariantEkf::InvariantEkf(const InvariantEkfParams& params)
     : params_(params),
       gate_(params.gating, "InvariantEkf"),
+      heading_(params.heading_turn_rate, params.heading_turn_time),
       pose_gate_(fusion::poseGateThreshold(params.gating)),
       slots_(params.flat_feet ? inekf::kMaxFlatFeet : inekf::kMaxFeet) {
   checkFilterParams(params, "InvariantEkf", false);  // zero densities: exact legs, constant bias
@@ -142,6 +143,7 @@ void InvariantEkf::reset(const EstimateSample& x0) {
   has_previous_ = false;
   slots_.reset();
   gate_.reset();
+  heading_.reset();
   nis_windows_.reset();
   replace_.fill(false);
   startHealth(x0);
@@ -178,7 +180,10 @@ void InvariantEkf::step(const StepInput& raw) {
   InputCopies copies;
   const auto [in, imu_admitted] =
       admit(raw, has_previous_, params_.limits, "InvariantEkf", copies, slots_);
-  if (has_previous_ && in.dt > 0.0) propagate(in.dt);
+  if (has_previous_ && in.dt > 0.0) {
+    propagate(in.dt);
+    heading_.add(yawRate(X_.R(), previous_.w_m, b_g_), in.dt, in.slip);
+  }
   correct(in);
   if (imu_admitted) {
     previous_ = in.imu;
@@ -389,12 +394,14 @@ void InvariantEkf::correctHeldFeet(const StepInput& in) {
     }
     if (c.probability >= kNisMinProbability) nis_windows_.add(c.foot, nu, S, innovations_);
     const Eigen::Matrix<double, D, 3> W = U * C_inv.transpose();
-    if (params_.feet_correct_yaw) {
+    const double alpha = params_.feet_correct_yaw ? 0.0 : heading_.alpha();
+    if (alpha == 0.0) {
       delta += W * nu_white;
       P -= W.lazyProduct(W.transpose());
     } else {
-      // The heading stays the gyro's (file comment): K' = (I - E) K, so the correction loses
-      // E W C^-1 nu and P <- P - W W^T + (E W)(E W)^T (Joseph form with K'). E W: the heading
+      // The heading stays the gyro's (file comment): K' = (I - alpha E) K (alpha the rule's
+      // share by the turn rate, heading_rule.hpp), so the correction loses alpha E W C^-1 nu and
+      // P <- P - W W^T + alpha^2 (E W)(E W)^T (Joseph form with K'). E W: the heading
       // row psi (world z of the rotation) times the turn of the robot about its base, which in
       // the right-invariant error is e_z on the rotation, 0 on v and -(e_z x p) on p and on
       // every foot; and the gyro bias's part along up = R_hat^T e_z.
@@ -407,6 +414,7 @@ void InvariantEkf::correctHeldFeet(const StepInput& in) {
       EW.template middleRows<3>(Nav) = up * (up.transpose() * W.template middleRows<3>(Nav));
       // and e_z on each held sole's rotation (world frame, as the attitude)
       for (int k = 0; k < Rots; ++k) EW.template middleRows<1>(Nav + 8 + 3 * k) = psi;
+      EW *= alpha;
       delta += (W - EW) * nu_white;
       P -= W.lazyProduct(W.transpose()) - EW.lazyProduct(EW.transpose());
     }

@@ -55,7 +55,8 @@
 // eskf.hpp's "Heading rule" paragraph). The same rule in the right-invariant error: the gain
 // loses the heading row (the world z of the rotation error) times the turn of the robot about its
 // base, which here is e_z on the rotation, 0 on the velocity and -(e_z x p) on the position and
-// every foot, and the part along the gyro bias about the vertical; the Joseph form gives P.
+// every foot, and the part along the gyro bias about the vertical, both times the rule's share
+// alpha (heading_rule.hpp); the Joseph form gives P <- P - W W^T + alpha^2 (E W)(E W)^T.
 //
 // Gating (section 57.9, GatingParams, off by default): each held foot's innovation nu is tested
 // with d^2 = nu^T S^-1 nu = |C^-1 nu|^2 (S = C C^T, its sequential innovation covariance) against
@@ -137,6 +138,7 @@
 #include "estimation/fusion/pose_measurement.hpp"
 #include "estimation/innovation_windows.hpp"
 #include "estimation/invariant/filter_params.hpp"
+#include "estimation/invariant/heading_rule.hpp"
 #include "lie/sek3.hpp"
 #include "model/imu_model.hpp"
 #include "model/imu_noise.hpp"
@@ -278,6 +280,7 @@ class InvariantEkf final : public Estimator {
 
   InvariantEkfParams params_;
   engineering::FootGate gate_;
+  HeadingRule heading_;            // alpha of the heading rule (heading_rule.hpp)
   InnovationWindows nis_windows_;  // the stance-foot NIS (stanceInnovations())
   double pose_gate_;  // chi-square quantile of 6 dof for the pose innovation (file comment)
   std::array<bool, inekf::kMaxFeet> replace_{};  // gated too long: re-added after the correction

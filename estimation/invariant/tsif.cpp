@@ -296,7 +296,10 @@ void addSole(const State& x, const lie::SO3d& R_F, int i, const ContactMeasureme
 }  // namespace
 
 Tsif::Tsif(const TsifParams& params)
-    : params_(params), gate_(params.gating, "Tsif"), slots_(params.flat_feet ? kFlatFeet : kFeet) {
+    : params_(params),
+      gate_(params.gating, "Tsif"),
+      heading_(params.heading_turn_rate, params.heading_turn_time),
+      slots_(params.flat_feet ? kFlatFeet : kFeet) {
   // White noise weighs the IMU residual by its inverse: it must be positive. A zero random walk
   // is a constant bias (shareBias).
   checkFilterParams(params, "Tsif", true);
@@ -340,6 +343,7 @@ void Tsif::reset(const EstimateSample& x0) {
   pending_dt_ = 0.0;
   slots_.reset();
   gate_.reset();
+  heading_.reset();
   startHealth(x0);
 }
 
@@ -395,6 +399,8 @@ void Tsif::step(const StepInput& raw) {
   Soles R_F0 = foot_R_;  // flat feet: the soles of x0 and x1
   Matrix27 Lambda0 = Lambda_;
   State x1 = nominal::propagate(x0, previous_, dt, params_.gravity);
+  heading_.add(yawRate(x1.R.matrix(), previous_.w_m, x1.b_g), dt, in.slip);
+  const double alpha = params_.feet_correct_yaw ? 0.0 : heading_.alpha();  // heading_rule.hpp
   Soles R_F1 = R_F0;
   // The four blocks after p (feet, or with flat feet two feet and their soles) placed at this step,
   // with no information on x0.
@@ -593,13 +599,13 @@ void Tsif::step(const StepInput& raw) {
     }
     const Vector27 b = b2 - Y.transpose() * z;  // b2 - H21 H11^-1 b1
     Vector27 dx1 = -llt22.solve(b);             // S dx1 = -b
-    if (!params_.feet_correct_yaw && feet_used) {
-      // The heading rule: dx1 <- dx1 - E dx1_positions, the heading part of the step that the
-      // positions alone take ((I - E) dx1 with point feet; file comment, "Flat feet").
+    if (alpha > 0.0 && feet_used) {
+      // The heading rule: dx1 <- dx1 - alpha E dx1_positions, the heading part of the step that
+      // the positions alone take ((I - alpha E) dx1 with point feet; file comment, "Flat feet").
       const Heading h = heading(x1, R_F1, params_.flat_feet);
       const Vector27 dx1_positions =
           soles_measured ? Vector27(-llt_positions.solve(b - g_soles)) : dx1;
-      dx1 -= h.V * (h.B.transpose() * dx1_positions);
+      dx1 -= alpha * h.V * (h.B.transpose() * dx1_positions);
     }
     Vector27 dx0 = -(z + Y * dx1);  // H11 dx0 = -(b1 + H12 dx1)
     llt11.matrixU().solveInPlace(dx0);
@@ -623,8 +629,8 @@ void Tsif::step(const StepInput& raw) {
   // not eat the small information of the unobservable states.
   Matrix27 P_pred;  // its inverse, the covariance of the IMU prediction
   Lambda_ = betweenMarginal(H_prior, e, params_.imu, dt, foot_variance_density, forgotten, &P_pred);
-  if (!params_.feet_correct_yaw && feet_used) {
-    // The heading rule's covariance, P+ = P_opt + V C V^T (eskf.hpp: P - Q + E Q E^T, with
+  if (alpha > 0.0 && feet_used) {
+    // The heading rule's covariance, P+ = P_opt + alpha^2 V C V^T (eskf.hpp: P - Q + E Q E^T, with
     // Q = P_pred - P_opt and E = V B^T), C = B^T Q B the 2 x 2 that the feet took from the
     // heading, in information form by the inversion lemma: Lambda+ = Lambda_opt - Lambda_opt V
     // C (I + V^T Lambda_opt V C)^-1 V^T Lambda_opt. A forgotten foot (no information yet) is
@@ -638,7 +644,7 @@ void Tsif::step(const StepInput& raw) {
     const Eigen::Matrix<double, kDim, 2> PB_pred = P_pred.lazyProduct(h.B);
     const Eigen::Matrix<double, kDim, 2> PB_positions = Lambda_positions.llt().solve(h.B);
     Eigen::Matrix2d C = h.B.transpose() * (PB_pred - PB_positions);
-    C = 0.5 * (C + C.transpose()).eval();
+    C = (0.5 * alpha * alpha) * (C + C.transpose()).eval();  // alpha^2 C: K' = (I - alpha E) K
     const Eigen::Matrix<double, kDim, 2> LV = Lambda_opt.lazyProduct(h.V);
     const Eigen::Matrix2d inner = Eigen::Matrix2d::Identity() + h.V.transpose() * LV * C;
     const Eigen::Matrix<double, kDim, 2> LVK = LV * (C * inner.inverse());

@@ -73,11 +73,13 @@
 // (ANEES/dof 3.5 on 2 runs; chapter 57.10).
 //
 // Heading rule (feet_correct_yaw = false, the default; why: eskf.hpp's "Heading rule" paragraph).
-// The Gauss-Newton step of x_{k+1} loses its heading part, dx1 <- (I - E) dx1 with E = V B^T
-// (B picks the heading about the vertical and the gyro bias along it, V turns the robot about its
-// base), and the new information is that of the ESKF's Joseph covariance P_opt + V C V^T, where
+// The Gauss-Newton step of x_{k+1} loses its heading part, dx1 <- (I - alpha E) dx1 with
+// E = V B^T (B picks the heading about the vertical and the gyro bias along it, V turns the robot
+// about its base; alpha the rule's share, heading_rule.hpp), and the new information is that of
+// the ESKF's Joseph covariance P_opt + alpha^2 V C V^T, where
 // C = B^T (P_pred - P_opt) B is the 2 x 2 the feet would have taken from the heading: by the
-// inversion lemma, Lambda = Lambda_opt - Lambda_opt V C (I + V^T Lambda_opt V C)^-1 V^T Lambda_opt,
+// inversion lemma (alpha^2 C for C), Lambda = Lambda_opt - Lambda_opt V C (I + V^T Lambda_opt V
+// C)^-1 V^T Lambda_opt,
 // one 27 x 27 solve with two right-hand sides (P_pred's B from the marginal's own factor). With
 // one iteration the TSIF then still equals the ESKF (physics-real: the same 0.092 m and 1.44 deg).
 //
@@ -136,6 +138,7 @@
 #include "estimation/estimator.hpp"
 #include "estimation/foot_slots.hpp"
 #include "estimation/invariant/filter_params.hpp"
+#include "estimation/invariant/heading_rule.hpp"
 #include "estimation/invariant/nominal_state.hpp"
 #include "lie/so3.hpp"
 #include "model/imu_model.hpp"
@@ -231,6 +234,7 @@ class Tsif final : public Estimator {
 
   TsifParams params_;
   engineering::FootGate gate_;
+  HeadingRule heading_;           // alpha of the heading rule (heading_rule.hpp)
   FootSlots<tsif::kFeet> slots_;  // foot ids of the log -> this filter's foot states
   tsif::State x_;
   tsif::Soles foot_R_;                             // flat feet: R_F, foot to world

@@ -46,6 +46,7 @@ const StepInput& SlipGuard::apply(const StepInput& in, const EstimateSample& x,
 
   storage = in;
   StepInput& out = *storage;
+  out.slip = true;
   if (reaction_ == SlipReaction::kInflate) {
     for (int k = 0; k < in.num_contacts; ++k) {
       if (hit[k]) out.contacts[k].cov *= detector_.params().inflate;  // R_i <- R_i alpha_inflate

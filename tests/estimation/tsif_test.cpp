@@ -436,14 +436,17 @@ TEST_CASE("TSIF: with very accurate kinematics it gains yaw information it canno
   // noiseless log (estimate = truth) the yaw sigma indeed stays put; on a noisy one each update
   // moves the linearisation point, the Jacobians of successive steps no longer share the yaw
   // null space, and with kinematics weighted at 0.01 mm the plain filter's yaw sigma collapses
-  // within 50 ms (the observability mismatch of EKF-type filters). The heading rule (tsif.hpp,
-  // feet_correct_yaw = false) takes no heading from the feet: its yaw sigma only grows.
+  // within 50 ms (the observability mismatch of EKF-type filters). The whole heading rule
+  // (tsif.hpp, feet_correct_yaw = false, heading_turn_rate 0) takes no heading from the feet: its
+  // yaw sigma only grows. (Its default share is the turn rate's, none while the robot stands or
+  // walks straight, as here: heading_rule.hpp.)
   FrontendNoise accurate;
   accurate.foot_point_sigma = 1e-5;
   for (const bool plain : {true, false}) {
     TsifParams params;
     params.foot_stance_density = 1e-5;
     params.feet_correct_yaw = plain;
+    params.heading_turn_rate = 0.0;
     for (const bool noiseless : {true, false}) {
       const io::Log log = trotLog(0.5, 1, noiseless);
       Tsif filter(params);

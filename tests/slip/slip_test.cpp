@@ -379,15 +379,18 @@ TEST_CASE("reactions on the filter's input", "[57.7][slip]") {
     // Nothing slips: the input itself, no copy.
     CHECK(&guard.apply(quiet, x, P, storage, &report) == &quiet);
     CHECK_FALSE(storage);
+    CHECK_FALSE(quiet.slip);
     guard.reset();
     const StepInput& out = guard.apply(one, x, P, storage, &report);
     CHECK(report.slipping(2));
     if (reaction == SlipReaction::kNone) {
       CHECK(&out == &one);
+      CHECK_FALSE(out.slip);
       continue;
     }
     REQUIRE(storage);
     CHECK(&out == &*storage);
+    CHECK(out.slip);  // a reaction tells the filters (their heading rule holds whole)
     if (reaction == SlipReaction::kInflate) {
       REQUIRE(out.num_contacts == 4);
       CHECK(out.contacts[2].cov.isApprox(one.contacts[2].cov * 100.0));
