@@ -41,8 +41,10 @@ class HeadingRule {
   // turn_rate [rad/s] (0: the whole rule, alpha always 1), turn_time > 0 [s].
   HeadingRule(double turn_rate, double turn_time) : turn_rate_(turn_rate), turn_time_(turn_time) {}
 
+  // Forgets the turn and any slip. The filters call it from their constructors and reset(), so
+  // the initial values below are never read before it.
   void reset() {
-    omega_bar_z_ = 0.0;
+    omega_bar_z_ = 0.0;  // state, not a setting: replaced by the first sample's rate (add)
     since_slip_ = turn_time_;
     started_ = false;
   }
@@ -68,8 +70,10 @@ class HeadingRule {
   double turnRate() const { return omega_bar_z_; }  // omega_bar_z [rad/s]
 
  private:
-  double turn_rate_;
-  double turn_time_;
+  double turn_rate_;  // FilterParams::heading_turn_rate (its comment gives the measurement)
+  double turn_time_;  // FilterParams::heading_turn_time
+  // State, not settings (reset() sets them): the low-passed yaw rate [rad/s], the time since the
+  // last accused foot [s] (turn_time at reset: no hold), whether a sample has come.
   double omega_bar_z_ = 0.0;
   double since_slip_ = 0.0;
   bool started_ = false;
