@@ -1,6 +1,7 @@
 #include "estimation/invariant/invariant_ekf.hpp"
 
 #include <Eigen/Cholesky>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -207,6 +208,36 @@ void withFeet(int n, F&& f) {
   }
 }
 
+// The two sparse columns [a b] of the heading rule's E W = a psi + b beta (correctHeldFeet), kept
+// as their non-zero rows: the yaw, two rows of p and of each foot, a row of each sole, the three
+// of the gyro bias.
+template <int D>
+class HeadingColumns {
+ public:
+  void add(int row, double a, double b) {
+    row_[n_] = row;
+    ab_.row(n_) << a, b;
+    ++n_;
+  }
+  // x += [a b] g for a 2-vector g.
+  void addTo(Eigen::Matrix<double, D, 1>& x, const Eigen::Vector2d& g) const {
+    for (int i = 0; i < n_; ++i) x(row_[i]) += ab_.row(i).dot(g);
+  }
+  // P += [a b] G [a b]^T for a symmetric 2 x 2 G, on the rows and columns of [a b] alone.
+  void addTo(Eigen::Map<Eigen::Matrix<double, D, D>>& P, const Eigen::Matrix2d& G) const {
+    for (int j = 0; j < n_; ++j) {
+      const Eigen::RowVector2d g_j = (G * ab_.row(j).transpose()).transpose();
+      for (int i = 0; i < n_; ++i) P(row_[i], row_[j]) += ab_.row(i).dot(g_j);
+    }
+  }
+
+ private:
+  static constexpr int kRows = 1 + 2 * (1 + inekf::kMaxFeet) + inekf::kMaxFlatFeet + 3;
+  std::array<int, kRows> row_{};
+  Eigen::Matrix<double, kRows, 2> ab_;
+  int n_ = 0;
+};
+
 }  // namespace
 
 template <typename F>
@@ -401,22 +432,29 @@ void InvariantEkf::correctHeldFeet(const StepInput& in) {
     } else {
       // The heading stays the gyro's (file comment): K' = (I - alpha E) K (alpha the rule's
       // share by the turn rate, heading_rule.hpp), so the correction loses alpha E W C^-1 nu and
-      // P <- P - W W^T + alpha^2 (E W)(E W)^T (Joseph form with K'). E W: the heading
-      // row psi (world z of the rotation) times the turn of the robot about its base, which in
-      // the right-invariant error is e_z on the rotation, 0 on v and -(e_z x p) on p and on
-      // every foot; and the gyro bias's part along up = R_hat^T e_z.
-      Eigen::Matrix<double, D, 3> EW = Eigen::Matrix<double, D, 3>::Zero();
-      const Eigen::RowVector3d psi = W.template middleRows<1>(2);
-      EW.template middleRows<1>(2) = psi;
+      // P <- P - W W^T + alpha^2 (E W)(E W)^T (Joseph form with K'). E W = a psi + b beta: the
+      // heading row psi (world z of the rotation) times a, the turn of the robot about its base,
+      // which in the right-invariant error is e_z on the rotation, 0 on v, -(e_z x p) on p and on
+      // every foot and e_z on each held sole; and beta = up^T W_bg, the gyro bias's part along
+      // up = R_hat^T e_z, times b = up on the bias. a and b are sparse (at most 16 rows between
+      // them), so the rank-2 term is added on their rows and columns only.
       const Vector3 p_turned = Vector3(p.y(), -p.x(), 0.0);  // -(e_z x p)
-      for (int c = 1; c < Nav / 3 - 1; ++c) EW.template middleRows<3>(3 + 3 * c) = p_turned * psi;
       const Vector3 up = R.row(2).transpose();
-      EW.template middleRows<3>(Nav) = up * (up.transpose() * W.template middleRows<3>(Nav));
-      // and e_z on each held sole's rotation (world frame, as the attitude)
-      for (int k = 0; k < Rots; ++k) EW.template middleRows<1>(Nav + 8 + 3 * k) = psi;
-      EW *= alpha;
-      delta += (W - EW) * nu_white;
-      P -= W.lazyProduct(W.transpose()) - EW.lazyProduct(EW.transpose());
+      HeadingColumns<D> ab;  // [a b] on its rows
+      ab.add(2, 1.0, 0.0);
+      for (int c = 1; c < Nav / 3 - 1; ++c) {
+        ab.add(3 + 3 * c, p_turned.x(), 0.0);
+        ab.add(4 + 3 * c, p_turned.y(), 0.0);
+      }
+      for (int k = 0; k < Rots; ++k) ab.add(Nav + 8 + 3 * k, 1.0, 0.0);
+      for (int j = 0; j < 3; ++j) ab.add(Nav + j, 0.0, up(j));
+      Eigen::Matrix<double, 2, 3> psi_beta;  // [psi; beta]
+      psi_beta.row(0) = W.template middleRows<1>(2);
+      psi_beta.row(1) = up.transpose() * W.template middleRows<3>(Nav);
+      delta += W * nu_white;
+      ab.addTo(delta, -alpha * (psi_beta * nu_white));
+      P -= W.lazyProduct(W.transpose());
+      ab.addTo(P, alpha * alpha * (psi_beta * psi_beta.transpose()));
     }
     corrected = true;
     if constexpr (Rots > 0) {
