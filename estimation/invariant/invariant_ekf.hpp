@@ -56,7 +56,8 @@
 // loses the heading row (the world z of the rotation error) times the turn of the robot about its
 // base, which here is e_z on the rotation, 0 on the velocity and -(e_z x p) on the position and
 // every foot, and the part along the gyro bias about the vertical, both times the rule's share
-// alpha (heading_rule.hpp); the Joseph form gives P <- P - W W^T + alpha^2 (E W)(E W)^T.
+// alpha (heading_rule.hpp); the Joseph form gives P <- P - W W^T + alpha^2 (E W)(E W)^T, whose
+// last term touches only the rows of those two sparse columns (correctHeldFeet).
 //
 // Gating (section 57.9, GatingParams, off by default): each held foot's innovation nu is tested
 // with d^2 = nu^T S^-1 nu = |C^-1 nu|^2 (S = C C^T, its sequential innovation covariance) against
