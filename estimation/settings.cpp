@@ -357,39 +357,39 @@ const std::vector<Node>& schema() {
                "foot_init_sigma", [](S& s) -> double& { return s.priors.foot_init_sigma; }, 1e-6,
                1000,
                "a foot state before its first stance measurement (ESKF, TSIF, linear KF) [m]")}),
-      section("feet", "The feet's random walks in the ESKF, the InEKF and the TSIF",
-              {number(
-                   "stance_density", [](S& s) -> double& { return s.feet.stance_density; }, 1e-9, 1,
-                   "a stance foot's slip allowance (also the linear KF's) [m/sqrt(s)]"),
-               number(
-                   "swing_density", [](S& s) -> double& { return s.feet.swing_density; }, 1e-6, 100,
-                   "a swing foot, the p_c = 0 end of a soft contact [m/sqrt(s)]"),
-               flag(
-                   "correct_yaw", [](S& s) -> bool& { return s.feet.correct_yaw; },
-                   "stance feet may correct the heading (yaw and the gyro bias about the "
-                   "vertical), which they cannot observe: false keeps the gyro's heading (the "
-                   "heading rule of section 57.5)"),
-               number(
-                   "heading_turn_rate", [](S& s) -> double& { return s.feet.heading_turn_rate; },
-                   0, 10,
-                   "the yaw rate from which no stance foot corrects the heading (the heading "
-                   "rule); below it the feet may, in proportion, so that they learn the "
-                   "vertical gyro bias while the robot walks straight; 0: never (section 57.5) "
-                   "[rad/s]"),
-               number(
-                   "heading_turn_time", [](S& s) -> double& { return s.feet.heading_turn_time; },
-                   1e-3, 100,
-                   "the low-pass of that yaw rate, and how long the feet leave the heading "
-                   "alone after a slip [s]"),
-               flag(
-                   "flat", [](S& s) -> bool& { return s.feet.flat; },
-                   "flat feet (a humanoid's soles): the ESKF, the InEKF and the TSIF also use each "
-                   "stance foot's orientation from the robot's model (at most two feet; section "
-                   "57.5)"),
-               number(
-                   "rotation_stance_density",
-                   [](S& s) -> double& { return s.feet.rotation_stance_density; }, 1e-9, 1,
-                   "a flat stance foot's rotation random walk [rad/sqrt(s)]")}),
+      section(
+          "feet", "The feet's random walks in the ESKF, the InEKF and the TSIF",
+          {number(
+               "stance_density", [](S& s) -> double& { return s.feet.stance_density; }, 1e-9, 1,
+               "a stance foot's slip allowance (also the linear KF's) [m/sqrt(s)]"),
+           number(
+               "swing_density", [](S& s) -> double& { return s.feet.swing_density; }, 1e-6, 100,
+               "a swing foot, the p_c = 0 end of a soft contact [m/sqrt(s)]"),
+           flag(
+               "correct_yaw", [](S& s) -> bool& { return s.feet.correct_yaw; },
+               "stance feet may correct the heading (yaw and the gyro bias about the "
+               "vertical), which they cannot observe: false keeps the gyro's heading (the "
+               "heading rule of section 57.5)"),
+           number(
+               "heading_turn_rate", [](S& s) -> double& { return s.feet.heading_turn_rate; }, 0, 10,
+               "the yaw rate from which no stance foot corrects the heading (the heading "
+               "rule); below it the feet may, in proportion, so that they learn the "
+               "vertical gyro bias while the robot walks straight; 0: never (section 57.5) "
+               "[rad/s]"),
+           number(
+               "heading_turn_time", [](S& s) -> double& { return s.feet.heading_turn_time; }, 1e-3,
+               100,
+               "the low-pass of that yaw rate, and how long the feet leave the heading "
+               "alone after a slip [s]"),
+           flag(
+               "flat", [](S& s) -> bool& { return s.feet.flat; },
+               "flat feet (a humanoid's soles): the ESKF, the InEKF and the TSIF also use each "
+               "stance foot's orientation from the robot's model (at most two feet; section "
+               "57.5)"),
+           number(
+               "rotation_stance_density",
+               [](S& s) -> double& { return s.feet.rotation_stance_density; }, 1e-9, 1,
+               "a flat stance foot's rotation random walk [rad/sqrt(s)]")}),
       section(
           "linear_kf", "The linear KF of section 57.4 and its attitude filter",
           {number(
@@ -636,22 +636,28 @@ const std::vector<Node>& schema() {
                "max_gated_time", [](S& s) -> double& { return s.gating.max_gated_time; }, 0, 100,
                "a foot gated at every step this long is re-initialised from its measurement, "
                "0: at once [s]")}),
-      section("initialisation", "Stationary initialisation (section 57.9)",
-              {flag(
-                   "enabled", [](S& s) -> bool& { return s.initialisation.enabled; },
-                   "find a still window first: tilt from gravity, gyro bias from the mean rate"),
-               number(
-                   "duration", [](S& s) -> double& { return s.initialisation.duration; }, 0.01, 60,
-                   "length of the still window averaged [s]"),
-               number(
-                   "gyro_std_max", [](S& s) -> double& { return s.initialisation.gyro_std_max; }, 0,
-                   1, "above this per axis the robot is moving [rad/s]"),
-               number(
-                   "accel_std_max", [](S& s) -> double& { return s.initialisation.accel_std_max; },
-                   0, 10, "above this per axis the robot is moving [m/s^2]"),
-               number(
-                   "max_wait", [](S& s) -> double& { return s.initialisation.max_wait; }, 0, 3600,
-                   "without a still window by then: give up, start as the log does [s]")}),
+      section(
+          "initialisation", "Stationary initialisation (section 57.9)",
+          {flag(
+               "enabled", [](S& s) -> bool& { return s.initialisation.enabled; },
+               "find a still window first: tilt from gravity, gyro bias from the mean rate"),
+           number(
+               "duration", [](S& s) -> double& { return s.initialisation.duration; }, 0.01, 60,
+               "length of the still window averaged [s]"),
+           number(
+               "gyro_std_max", [](S& s) -> double& { return s.initialisation.gyro_std_max; }, 0, 1,
+               "above this per axis the robot is moving [rad/s]"),
+           number(
+               "accel_std_max", [](S& s) -> double& { return s.initialisation.accel_std_max; }, 0,
+               10, "above this per axis the robot is moving [m/s^2]"),
+           number(
+               "max_wait", [](S& s) -> double& { return s.initialisation.max_wait; }, 0, 3600,
+               "without a still window by then: give up, start as the log does [s]"),
+           choice<GyroBiasStart>(
+               "gyro_bias", [](S& s) -> GyroBiasStart& { return s.gyro_bias_start; },
+               {{GyroBiasStart::kZero, "zero"}, {GyroBiasStart::kStillWindow, "still-window"}},
+               "where legkit run and eval start every estimator's gyro bias: zero, or the "
+               "mean rate of the still window at the log's start (a real IMU's turn-on bias)")}),
       section(
           "monitors", "Sensor-health and covariance monitors (section 57.9)",
           {number(

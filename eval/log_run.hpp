@@ -52,7 +52,8 @@ std::string noGait();
 // velocities), noise, limits, contact pipeline (the detectors' forces scaled to the robot's
 // weight, then the settings' own: detectorContext; the gait and the logistic model of `context`,
 // the gait when it has none from the settings' contact.gait), robot and IMU extrinsic, from x0
-// (default: initialState), a pose-only truth differentiated over frontend.truth_velocity_window.
+// (default: initialState) and the gyro bias initialisation.gyro_bias gives (stillStart), a
+// pose-only truth differentiated over frontend.truth_velocity_window.
 // The trajectory keeps the log's own stamps, as the estimate files do (the estimator ran on the
 // conditioned ones), so that it lines up with the log row for row.
 RunResult runWithSettings(const io::Log& recorded, const Settings& settings,

@@ -58,7 +58,8 @@ namespace {
 // IMU frame of `extrinsic`; x0 and what is recorded are the base's.
 template <typename InputOf, typename AfterRow>
 RunResult runRows(Estimator& estimator, const io::Log& log, const model::ImuExtrinsic& extrinsic,
-                  const EstimateSample& x0, double truth_velocity_window, const InputOf& input_of,
+                  const EstimateSample& x0, const std::optional<Eigen::Vector3d>& gyro_bias,
+                  double truth_velocity_window, const InputOf& input_of,
                   const AfterRow& after_row) {
   const bool moved = !extrinsic.isIdentity();
   RunResult result;
@@ -76,9 +77,16 @@ RunResult runRows(Estimator& estimator, const io::Log& log, const model::ImuExtr
   };
   try {
     // The IMU's initial state from the base's, with row 0's rate (w_B = R_BI w_I).
-    estimator.reset(moved && !log.rows.empty()
-                        ? imuFromBase(extrinsic, x0, extrinsic.q_BI * log.rows.front().gyro)
-                        : x0);
+    InitialState start;
+    start.x = moved && !log.rows.empty()
+                  ? imuFromBase(extrinsic, x0, extrinsic.q_BI * log.rows.front().gyro)
+                  : x0;
+    if (gyro_bias) {
+      start.b_g = *gyro_bias;
+      estimator.initialise(start);
+    } else {
+      estimator.reset(start.x);
+    }
   } catch (const std::exception& e) {
     fail(std::string("reset threw: ") + e.what());
   } catch (...) {
@@ -149,12 +157,24 @@ RunResult runRows(Estimator& estimator, const io::Log& log, const model::ImuExtr
 
 }  // namespace
 
+std::optional<StillStart> stillStart(const io::Log& log,
+                                     const engineering::StationaryInitParams& params) {
+  engineering::StationaryInitialiser still(params);
+  for (const io::LogRow& row : log.rows) {
+    if (still.add(row.t, {row.gyro, row.acc})) break;
+  }
+  if (!still.ready()) return std::nullopt;  // gave up, or the log ended first
+  const InitialState s = still.result();
+  return StillStart{s.b_g, s.x.t};
+}
+
 RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& frontend,
-                   const EstimateSample& x0, double truth_velocity_window) {
+                   const EstimateSample& x0, double truth_velocity_window,
+                   const std::optional<Eigen::Vector3d>& gyro_bias) {
   StepInput in;
   FootVelocityDifferentiator velocities;
   return runRows(
-      estimator, log, frontend.extrinsic(), x0, truth_velocity_window,
+      estimator, log, frontend.extrinsic(), x0, gyro_bias, truth_velocity_window,
       [&](std::size_t k, double dt) -> const StepInput& {
         in = frontend.input(log.rows[k], dt, &velocities);
         return in;
@@ -163,7 +183,8 @@ RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& 
 }
 
 RunResult runOnLog(Estimator& estimator, const io::Log& log, ContactPipeline& pipeline,
-                   const EstimateSample& x0, double truth_velocity_window) {
+                   const EstimateSample& x0, double truth_velocity_window,
+                   const std::optional<Eigen::Vector3d>& gyro_bias) {
   pipeline.reset();
   std::chrono::duration<double, std::micro> busy{0};
   std::size_t steps = 0;
@@ -173,7 +194,7 @@ RunResult runOnLog(Estimator& estimator, const io::Log& log, ContactPipeline& pi
   slip.reserve(log.rows.size());
   std::array<bool, contact::kMaxFeet> stance{};  // of the row being run
   RunResult result = runRows(
-      estimator, log, pipeline.frontend().extrinsic(), x0, truth_velocity_window,
+      estimator, log, pipeline.frontend().extrinsic(), x0, gyro_bias, truth_velocity_window,
       [&](std::size_t k, double dt) -> const StepInput& {
         const auto t0 = std::chrono::steady_clock::now();
         const StepInput& in =

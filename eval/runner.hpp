@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "estimation/contact_pipeline.hpp"
+#include "estimation/engineering/stationary_init.hpp"
 #include "estimation/estimator.hpp"
 #include "estimation/health.hpp"
 #include "estimation/log_frontend.hpp"
@@ -115,14 +116,33 @@ double normalisedAnees(const RunResult& run);
 // estimate, or a covariance that is not finite or whose NEES block is not symmetric positive
 // definite, the run stops at that row and result.failure says why and where; runOnLog itself
 // never throws for it, so that the caller can go on with other estimators.
+//
+// gyro_bias (the IMU frame's, as the log's gyro columns): when given, the estimator starts through
+// initialise() with it as its gyro bias (stillStart below), not through reset().
 RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& frontend,
-                   const EstimateSample& x0, double truth_velocity_window = kTruthVelocityWindow);
+                   const EstimateSample& x0, double truth_velocity_window = kTruthVelocityWindow,
+                   const std::optional<Eigen::Vector3d>& gyro_bias = std::nullopt);
 // The same on detected contacts: the pipeline is reset, then gives each row's input from the
 // estimator's estimate and covariance after the previous row (57.6). Same failure rules (the
 // pipeline throwing is a failure of the run). Also records the contact source and the stance
 // flags and slip checks per row, and adds the pipeline's health (kNoContact) to the run's.
 RunResult runOnLog(Estimator& estimator, const io::Log& log, ContactPipeline& pipeline,
-                   const EstimateSample& x0, double truth_velocity_window = kTruthVelocityWindow);
+                   const EstimateSample& x0, double truth_velocity_window = kTruthVelocityWindow,
+                   const std::optional<Eigen::Vector3d>& gyro_bias = std::nullopt);
+
+// The still window at a log's start (initialisation.gyro_bias: still-window, settings.hpp): the
+// log's IMU samples through the estimator manager's engineering::StationaryInitialiser with
+// `params` (duration, thresholds, max_wait; `enabled` is the manager's switch and is not read).
+// b_g is the window's mean rate in the IMU's frame. A run that starts from it at row 0 uses a
+// measurement made over the window, up to `duration` after row 0: as if the robot had stood that
+// long before the log began (it stood still then, or there is no window).
+struct StillStart {
+  Eigen::Vector3d b_g;  // [rad/s]
+  double t_end = 0.0;   // the window's last sample [s]
+};
+// nullopt when no still window ends within params.max_wait of the first row.
+std::optional<StillStart> stillStart(const io::Log& log,
+                                     const engineering::StationaryInitParams& params);
 
 // "file:line" of log row k when the log knows the file it came from, else empty.
 std::string rowLocation(const io::Log& log, std::size_t k);

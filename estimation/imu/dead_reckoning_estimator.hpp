@@ -1,5 +1,6 @@
 // Pure IMU dead reckoning (section 57.1) behind the common Estimator interface: the baseline
-// that shows why legs are needed. No bias is estimated (b_hat = 0), no contact is used.
+// that shows why legs are needed. No bias is estimated, no contact is used: the gyro bias is 0, or
+// the one initialise() gives (a still window's mean rate), held until the next reset.
 #pragma once
 
 #include "estimation/estimator.hpp"
@@ -14,6 +15,9 @@ class DeadReckoningEstimator final : public Estimator {
   }
   std::string name() const override { return "imu-dead-reckoning"; }
   void reset(const EstimateSample& x0) override;
+  // reset(s.x), then s.b_g as the known gyro bias (s.b_a is not used: the accelerometer bias of a
+  // stand cannot be told from its tilt, engineering/stationary_init.hpp).
+  void initialise(const InitialState& s) override;
   // Holds the previous admitted IMU sample over dt (zero-order hold), then stores this one; bad
   // input and faults as estimation/estimator.hpp's contract says.
   void step(const StepInput& in) override;
@@ -22,6 +26,7 @@ class DeadReckoningEstimator final : public Estimator {
  private:
   InputLimits limits_;
   NavState x_;
+  Eigen::Vector3d b_g_ = Eigen::Vector3d::Zero();  // known gyro bias [rad/s]
   double t_ = 0.0;
   model::ImuReading previous_;
   bool has_previous_ = false;

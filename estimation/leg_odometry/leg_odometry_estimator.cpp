@@ -9,11 +9,18 @@ namespace legkit::leg_odometry {
 
 void LegOdometryEstimator::reset(const EstimateSample& x0) {
   R_ = lie::SO3d::fromQuaternion(x0.q);
+  b_g_.setZero();
   v_ = x0.v;
   p_ = x0.p;
   t_ = x0.t;
   has_previous_ = false;
   startHealth(x0);
+}
+
+void LegOdometryEstimator::initialise(const InitialState& s) {
+  checkInitialState(s, name());
+  reset(s.x);
+  b_g_ = s.b_g;
 }
 
 void LegOdometryEstimator::step(const StepInput& raw) {
@@ -35,14 +42,14 @@ void LegOdometryEstimator::step(const StepInput& raw) {
   const Eigen::Vector3d v_before = v_;
   if (has_previous_ && in.dt > 0.0) {
     const Eigen::Vector3d a_world = R_ * previous_.a_m + model::gravity();
-    R_ = R_ * lie::SO3d::Exp(previous_.w_m * in.dt);  // R_{k+1} = R_k Exp(w_m dt)
-    v_ += a_world * in.dt;                            // flight: the IMU alone
+    R_ = R_ * lie::SO3d::Exp((previous_.w_m - b_g_) * in.dt);  // R_{k+1} = R_k Exp(w dt)
+    v_ += a_world * in.dt;                                     // flight: the IMU alone
   }
   bool legs_measure_velocity = in.num_contacts > 0 && (imu_admitted || has_previous_);
   for (const ContactMeasurement& c : in.stance()) legs_measure_velocity &= c.v_body.has_value();
   if (legs_measure_velocity) {
-    const Eigen::Vector3d& w_m = imu_admitted ? in.imu.w_m : previous_.w_m;
-    v_ = meanVelocity(R_.matrix(), w_m, in.stance());
+    const Eigen::Vector3d w = (imu_admitted ? in.imu.w_m : previous_.w_m) - b_g_;
+    v_ = meanVelocity(R_.matrix(), w, in.stance());
   }
   if (has_previous_) p_ += 0.5 * (v_before + v_) * in.dt;
   if (imu_admitted) {

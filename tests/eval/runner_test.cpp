@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "estimation/imu/dead_reckoning_estimator.hpp"
+#include "estimation/leg_odometry/leg_odometry_estimator.hpp"
 #include "eval/monte_carlo.hpp"
 #include "eval/runner.hpp"
 #include "io/log_reader.hpp"
@@ -199,4 +201,59 @@ TEST_CASE("runner: a log without truth whose first accelerometer reading is zero
   log.rows[0].acc = Eigen::Vector3d(0.0, 9.81, 0.0);  // lying on its side: rolled 90 deg
   CHECK(eval::initialState(log).q.angularDistance(
             Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()))) < 1e-12);
+}
+
+namespace {
+
+// `seconds` of a robot standing level at 1 kHz whose gyro reads the constant bias b plus a
+// +-1e-3 rad/s square wave (noise with a zero mean over every even number of rows), with truth.
+io::Log standingLog(double seconds, const Eigen::Vector3d& b) {
+  io::Log log;
+  log.layout.ground_truth = true;
+  for (int k = 0; k <= static_cast<int>(seconds * 1000.0); ++k) {
+    io::LogRow row;
+    row.t = 1e-3 * k;
+    row.gyro = b + Eigen::Vector3d::Constant(k % 2 == 0 ? 1e-3 : -1e-3);
+    row.acc.z() = 9.81;
+    log.rows.push_back(row);
+  }
+  return log;
+}
+
+}  // namespace
+
+TEST_CASE("runner: the still start gives the window's mean rate; a log that moves has none",
+          "[eval]") {
+  const Eigen::Vector3d b(0.002, -0.003, -0.0057);  // the iCub's turn-on bias is of this size
+  engineering::StationaryInitParams params;         // a 2 s window
+  const std::optional<eval::StillStart> still = eval::stillStart(standingLog(4.0, b), params);
+  REQUIRE(still);
+  CHECK((still->b_g - b).norm() < 1e-6);
+  CHECK(still->t_end == Approx(params.duration).margin(0.01));
+
+  io::Log turning = standingLog(4.0, b);  // turns back and forth at 1 rad/s, 1 Hz, from row 0
+  for (io::LogRow& row : turning.rows) row.gyro.z() += std::sin(2.0 * M_PI * row.t);
+  params.max_wait = 3.0;
+  CHECK_FALSE(eval::stillStart(turning, params));
+}
+
+TEST_CASE("runner: a run given the still start's gyro bias integrates the rate less it", "[eval]") {
+  const Eigen::Vector3d b(0.0, 0.0, -0.0057);
+  const io::Log log = standingLog(4.0, b);
+  const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
+  const std::optional<eval::StillStart> still = eval::stillStart(log, {});
+  REQUIRE(still);
+  const auto yawAtEnd = [&](const std::optional<Eigen::Vector3d>& b_g) {
+    imu::DeadReckoningEstimator e;
+    const eval::RunResult r = eval::runOnLog(e, log, frontend, eval::initialState(log), 0.05, b_g);
+    REQUIRE(r.ok());
+    return r.trajectory.back().q.angularDistance(Eigen::Quaterniond::Identity());
+  };
+  CHECK(yawAtEnd(std::nullopt) == Approx(0.0057 * 4.0).epsilon(0.01));  // the bias integrated
+  CHECK(yawAtEnd(still->b_g) < 1e-5);                                   // the bias removed
+  leg_odometry::LegOdometryEstimator lo;
+  const eval::RunResult r =
+      eval::runOnLog(lo, log, frontend, eval::initialState(log), 0.05, still->b_g);
+  REQUIRE(r.ok());
+  CHECK(r.trajectory.back().q.angularDistance(Eigen::Quaterniond::Identity()) < 1e-5);
 }
