@@ -89,11 +89,14 @@ RunResult runWithSettings(const io::Log& recorded, const Settings& settings,
   const double window = settings.truth_velocity_window;
   // initialisation.gyro_bias (settings.hpp): the still start's mean rate, when the log has one.
   std::optional<Eigen::Vector3d> b_g0;
+  std::string start;
   if (settings.gyro_bias_start == GyroBiasStart::kStillWindow) {
-    if (const std::optional<StillStart> still = stillStart(log, settings.initialisation))
-      b_g0 = still->b_g;
+    const std::optional<StillStart> still = stillStart(log, settings.initialisation);
+    if (still) b_g0 = still->b_g;
+    start = describeStart(still);
   }
   RunResult run = runOnLog(*e, log, pipeline, x0 ? *x0 : initialState(log, window), window, b_g0);
+  run.start = start;
   for (std::size_t k = 0; k < run.trajectory.size(); ++k) run.trajectory[k].t = recorded.rows[k].t;
   return run;
 }

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -166,6 +167,16 @@ std::optional<StillStart> stillStart(const io::Log& log,
   if (!still.ready()) return std::nullopt;  // gave up, or the log ended first
   const InitialState s = still.result();
   return StillStart{s.b_g, s.x.t};
+}
+
+std::string describeStart(const std::optional<StillStart>& still) {
+  if (!still)
+    return "no still window within initialisation.max_wait: every gyro bias starts at zero";
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(5) << "gyro bias [" << still->b_g.x() << ", "
+     << still->b_g.y() << ", " << still->b_g.z() << "] rad/s, the mean rate of the still window "
+     << std::setprecision(2) << "ending at " << still->t_end << " s (initialisation.gyro_bias)";
+  return os.str();
 }
 
 RunResult runOnLog(Estimator& estimator, const io::Log& log, const LogFrontend& frontend,

@@ -57,6 +57,9 @@ inline bool voided(const Health& h, std::size_t samples) {
 
 struct RunResult {
   std::string name;
+  // How its gyro bias started when the settings asked for the still start (runWithSettings:
+  // describeStart), else empty.
+  std::string start;
   // One estimate per log row; after a failure, one per row before the failing row.
   Trajectory trajectory;
   double us_per_step = 0;  // mean wall time of Estimator::step [microseconds]
@@ -143,6 +146,10 @@ struct StillStart {
 // nullopt when no still window ends within params.max_wait of the first row.
 std::optional<StillStart> stillStart(const io::Log& log,
                                      const engineering::StationaryInitParams& params);
+// What a run that asked for the still start started from, in one line: "gyro bias [x, y, z]
+// rad/s, the mean rate of the still window ending at T s (initialisation.gyro_bias)", or that the
+// log has no still window and every gyro bias starts at zero.
+std::string describeStart(const std::optional<StillStart>& still);
 
 // "file:line" of log row k when the log knows the file it came from, else empty.
 std::string rowLocation(const io::Log& log, std::size_t k);

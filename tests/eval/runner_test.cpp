@@ -230,6 +230,9 @@ TEST_CASE("runner: the still start gives the window's mean rate; a log that move
   REQUIRE(still);
   CHECK((still->b_g - b).norm() < 1e-6);
   CHECK(still->t_end == Approx(params.duration).margin(0.01));
+  CHECK_THAT(eval::describeStart(still),
+             Catch::Matchers::StartsWith("gyro bias [0.00200, -0.00300, -0.00570] rad/s"));
+  CHECK_THAT(eval::describeStart(std::nullopt), Catch::Matchers::Contains("starts at zero"));
 
   io::Log turning = standingLog(4.0, b);  // turns back and forth at 1 rad/s, 1 Hz, from row 0
   for (io::LogRow& row : turning.rows) row.gyro.z() += std::sin(2.0 * M_PI * row.t);

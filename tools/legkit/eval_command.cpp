@@ -40,9 +40,11 @@ std::vector<std::string> logNames(const std::string& dir) {
   return names;
 }
 
+// `start`: the run's still start (eval::describeStart), when the settings ask for one.
 EvalEstimatorRow evaluate(const io::Log& log, const Settings& settings, const std::string& name,
-                          const contact::DetectorContext& context) {
+                          const contact::DetectorContext& context, std::string& start) {
   const eval::RunResult run = eval::runWithSettings(log, settings, name, context);
+  start = run.start;
   EvalEstimatorRow r{name, run.ok(), "", NAN, NAN, NAN, NAN, eval::normalisedAnees(run)};
   if (run.failed()) {
     r.failure = eval::describe(*run.failure);
@@ -74,17 +76,20 @@ EvalLogRow evaluateLog(const fs::path& path, const Settings& settings,
                        const std::vector<std::string>& names,
                        const contact::DetectorContext& context) {
   EvalLogRow row{path.filename().string(), "", 0, {}};
+  std::string start;  // the still start, when the settings ask for one (every estimator's)
   try {
     const io::Log log = io::readLog(path.string());
     row.samples = static_cast<int>(log.rows.size());
     for (const std::string& name : names)
-      row.estimators.push_back(evaluate(log, settings, name, context));
+      row.estimators.push_back(evaluate(log, settings, name, context, start));
   } catch (const std::exception& e) {
     const std::string what = e.what();
     row.error = what.rfind(path.string(), 0) == 0 ? what : path.string() + ": " + what;
     row.estimators.clear();
   }
-  std::cerr << "legkit eval: " << row.log << (row.error.empty() ? " done" : " FAILED") << '\n';
+  std::cerr << "legkit eval: " << row.log << (row.error.empty() ? " done" : " FAILED");
+  if (!start.empty()) std::cerr << "; start: " << start;
+  std::cerr << '\n';
   return row;
 }
 

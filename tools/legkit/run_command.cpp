@@ -744,16 +744,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   const bool still_bias = settings && settings->gyro_bias_start == GyroBiasStart::kStillWindow;
   const std::optional<eval::StillStart> still =
       still_bias ? eval::stillStart(log, settings->initialisation) : std::nullopt;
-  std::string start_note;
-  if (still) {
-    std::ostringstream os;
-    os << "gyro bias [" << cell(still->b_g.x(), 5) << ", " << cell(still->b_g.y(), 5) << ", "
-       << cell(still->b_g.z(), 5) << "] rad/s, the mean rate of the still window ending at "
-       << cell(still->t_end, 2) << " s (initialisation.gyro_bias)";
-    start_note = os.str();
-  } else if (still_bias) {
-    start_note = "no still window within initialisation.max_wait: every gyro bias starts at zero";
-  }
+  const std::string start_note = still_bias ? eval::describeStart(still) : std::string();
   const std::optional<Eigen::Vector3d> b_g0 =
       still ? std::optional<Eigen::Vector3d>(still->b_g) : std::nullopt;
   std::vector<RunRow> rows;
