@@ -147,7 +147,7 @@ struct TsifSettings {
 
 // Where the gyro bias of `legkit run` and `legkit eval` starts (initialisation.gyro_bias). The
 // runs start every estimator from the log's first truth pose; with kStillWindow also from the mean
-// rate of the still window that `initialisation` finds at the log's start (eval/still_start.hpp).
+// rate of the still window that `initialisation` finds at the log's start (eval::stillStart).
 // kZero is the default because the kit's simulated IMUs start without a bias (sim/simulator.hpp,
 // initial_bias): there the window's mean is its noise alone (physics-trot, 2 s: 1.5e-3 to 3.1e-3
 // rad/s per axis, the size of the filters' prior sigma_gyro_bias 2e-3), while a real IMU's
