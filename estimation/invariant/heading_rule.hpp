@@ -72,11 +72,11 @@ class HeadingRule {
  private:
   double turn_rate_;  // FilterParams::heading_turn_rate (its comment gives the measurement)
   double turn_time_;  // FilterParams::heading_turn_time
-  // State, not settings (reset() sets them): the low-passed yaw rate [rad/s], the time since the
-  // last accused foot [s] (turn_time at reset: no hold), whether a sample has come.
-  double omega_bar_z_ = 0.0;
-  double since_slip_ = 0.0;
-  bool started_ = false;
+  // State, not settings: no measurement stands behind these initialisers, because reset() (called
+  // from every filter's constructor) overwrites each before it is read.
+  double omega_bar_z_ = 0.0;  // the low-passed yaw rate [rad/s]; add() sets it from sample 1
+  double since_slip_ = 0.0;   // time since the last accused foot [s]; reset(): turn_time, no hold
+  bool started_ = false;      // whether a sample has come
 };
 
 }  // namespace legkit::invariant
