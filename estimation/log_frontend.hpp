@@ -42,11 +42,12 @@ struct FrontendNoise {
   // foot_rotation_sigma^2 I. That floor is how flat a foot in "contact" really is: a force
   // threshold calls a foot down at heel strike and still at toe-off, when a 0.2 m sole with one
   // end 1 cm off the ground is tilted by 0.05 rad (3 deg), and the sole rolls between the two.
-  // Measured on the iCub log (its settings with feet.flat true, ESKF position RMSE and yaw RMS;
-  // point feet 0.026 m, 2.43 deg): 0.01 rad 0.024 m, 2.55 deg (worse than points: the sole is
-  // trusted flatter than it is); 0.02 0.022, 2.27; 0.03 0.020, 2.01; 0.05 0.017, 1.70; 0.1
-  // 0.017, 1.57. At feet.rotation_stance_density 0.002 / 0.01 the same order. 0.05 is the
-  // physical figure above, not the best of the sweep; the one flat-footed log in the kit is the
+  // Measured on the iCub log (config/robots/icub.yaml, ESKF position RMSE and yaw RMS, from its
+  // still-window gyro bias; point feet 0.010 m, 0.20 deg, the gyro alone 0.29 deg): 0.01 rad
+  // 0.013 m, 0.37 deg (the sole trusted flatter than it is); 0.02 0.012, 0.32; 0.03 0.010, 0.31;
+  // 0.05 0.008, 0.26; 0.1 0.009, 0.23. From a zero gyro bias (point feet 0.026 m, 2.39 deg):
+  // 0.017, 1.25; 0.017, 1.22; 0.015, 1.26; 0.015, 1.30; 0.017, 1.48. 0.05 is the physical figure
+  // above, and the sweep's best position both ways; the one flat-footed log in the kit is the
   // iCub's, so it holds on one robot's walk so far.
   bool foot_rotations = false;
   double foot_rotation_sigma = 0.05;  // [rad]

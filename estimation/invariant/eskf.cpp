@@ -242,10 +242,9 @@ Eskf::Update Eskf::correct(int i, const std::array<int, Blocks>& cols,
   }
   if (position && probability >= kNisMinProbability) nis_windows_.add(i, r, S, innovations_);
   Matrix27x3 K = PHt.lazyProduct(llt.solve(Matrix3::Identity()));
-  // The rule is the feet's positions' (their yaw comes through the legs' scale); a sole's
-  // rotation keeps its heading information (file comment, "Flat feet").
+  // The rule is every foot update's, a sole's rotation too (file comment, "Flat feet").
   const double alpha = params_.feet_correct_yaw ? 0.0 : heading_.alpha();
-  if (position && alpha > 0.0) {
+  if (alpha > 0.0) {
     // The heading stays the gyro's (file comment): K <- (I - alpha E) K. E K is the heading row
     // psi = up^T K_theta (up = R_hat^T e_z, the vertical in the local error) times the turn of the
     // robot about its base (up on the attitude, e_z x v on the velocity, e_z x (d_i - p) on the

@@ -122,17 +122,21 @@
 // gate and the NIS windows). At touchdown R_F = R_hat Z, and R = R_hat Exp(dtheta) gives
 // dphi_i = Z^T dtheta - n: its rows of P are Z^T times those of dtheta, plus rot_cov. The
 // injection and the reset treat dphi_i as the attitude's dtheta (R_F <- R_F Exp(dphi_hat),
-// G = I - [dphi_hat / 2]_x). The heading rule is the positions' alone: a point foot tells the yaw
-// rate through the legs' scale, which no robot knows well; a sole tells the body's rotation
-// against a foot that does not turn through the encoders' angles, with no scale in it, and so
-// observes the gyro bias about the vertical (absolute yaw stays unobservable: turning the body
-// and the soles together changes no h). The rule still turns the soles with the robot
-// (R_F^T e_z) when a position corrects the attitude. Measured on the iCub log (legkit run --log
-// data/icub-walking/walking.csv, config/robots/icub.yaml with feet.flat true; ESKF position
-// RMSE, roll/pitch and yaw RMS): point feet 0.026 m, 0.61 deg, 2.43 deg (the gyro alone 2.39);
-// flat feet 0.017 m, 0.57 deg, 1.70 deg. The same run with the rule on the soles too: 0.027 m,
-// 2.43 deg. How much the sole is trusted matters more (frontend.foot_rotation_sigma,
-// log_frontend.hpp).
+// G = I - [dphi_hat / 2]_x). The heading rule holds a sole's update as it holds a position's: a
+// sole tells the body's rotation against a foot that does not turn, through the encoders' angles
+// with no leg scale in it, so it observes the gyro bias about the vertical (absolute yaw stays
+// unobservable: turning the body and the soles together changes no h); but a sole's heading is
+// also where the kinematics' own error lands (an ankle's offset, a foot that twists on its rubber
+// while it stands), and while the robot turns nothing tells that from the gyro's bias. So the
+// soles get the rule's share alpha as the positions do, the turn about the base being R_F^T e_z
+// on each sole's error. Measured on the iCub log (legkit run --log data/icub-walking/walking.csv,
+// config/robots/icub.yaml; position RMSE, roll/pitch and yaw RMS, the gyro alone 2.39 deg from a
+// zero gyro bias, 0.29 deg from the still window's): point feet 0.026 m, 0.61 deg, 2.39 deg from
+// zero, 0.010 m, 0.58, 0.20 from the still window; flat feet 0.015 m, 0.57, 1.30 and 0.008 m,
+// 0.54, 0.26. With the soles outside the rule: flat feet 0.017 m, 0.57,
+// 1.68 from zero and 0.012 m, 0.93 deg from the still window, 0.64 deg worse than the gyro's
+// yaw: once the bias is known, the soles' heading is their own error. How much the sole is
+// trusted matters too (frontend.foot_rotation_sigma, log_frontend.hpp).
 //
 // covariance() maps the local attitude error to the kit's world-frame convention:
 // R = R_hat Exp(dtheta) = Exp(R_hat dtheta) R_hat, so dtheta_w = R_hat dtheta; v and p are

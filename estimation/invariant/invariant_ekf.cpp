@@ -391,6 +391,38 @@ void InvariantEkf::correctHeldFeet(const StepInput& in) {
   const Matrix3 R = X_.R();  // the predicted attitude: every foot is linearised here
   const Vector3 p = X_.col(1);
   Eigen::Matrix<double, D, 1> delta = Eigen::Matrix<double, D, 1>::Zero();
+  // The heading stays the gyro's (file comment): K' = (I - alpha E) K (alpha the rule's share by
+  // the turn rate, heading_rule.hpp), so a correction K nu = W C^-1 nu loses alpha E W C^-1 nu and
+  // P <- P - W W^T + alpha^2 (E W)(E W)^T (Joseph form with K'). E W = a psi + b beta: the heading
+  // row psi (world z of the rotation) times a, the turn of the robot about its base, which in the
+  // right-invariant error is e_z on the rotation, 0 on v, -(e_z x p) on p and on every foot and
+  // e_z on each held sole; and beta = up^T W_bg, the gyro bias's part along up = R_hat^T e_z,
+  // times b = up on the bias. a and b are sparse (at most 16 rows between them), so the rank-2
+  // term is added on their rows and columns only. Every update takes it, a sole's too.
+  const double alpha = params_.feet_correct_yaw ? 0.0 : heading_.alpha();
+  const Vector3 up = R.row(2).transpose();
+  HeadingColumns<D> ab;  // [a b] on its rows
+  if (alpha > 0.0) {
+    const Vector3 p_turned = Vector3(p.y(), -p.x(), 0.0);  // -(e_z x p)
+    ab.add(2, 1.0, 0.0);
+    for (int c = 1; c < Nav / 3 - 1; ++c) {
+      ab.add(3 + 3 * c, p_turned.x(), 0.0);
+      ab.add(4 + 3 * c, p_turned.y(), 0.0);
+    }
+    for (int k = 0; k < Rots; ++k) ab.add(Nav + 8 + 3 * k, 1.0, 0.0);
+    for (int j = 0; j < 3; ++j) ab.add(Nav + j, 0.0, up(j));
+  }
+  // One update: W = P H^T C^-T and the whitened innovation C^-1 nu (S = C C^T).
+  const auto correctWith = [&](const Eigen::Matrix<double, D, 3>& W, const Vector3& nu_white) {
+    delta += W * nu_white;
+    P -= W.lazyProduct(W.transpose());
+    if (alpha == 0.0) return;
+    Eigen::Matrix<double, 2, 3> psi_beta;  // [psi; beta]
+    psi_beta.row(0) = W.template middleRows<1>(2);
+    psi_beta.row(1) = up.transpose() * W.template middleRows<3>(Nav);
+    ab.addTo(delta, -alpha * (psi_beta * nu_white));
+    ab.addTo(P, alpha * alpha * (psi_beta * psi_beta.transpose()));
+  };
   bool corrected = false;
   for (const ContactMeasurement& c : in.stance()) {
     const int col = column_of_foot_[c.foot];
@@ -424,43 +456,12 @@ void InvariantEkf::correctHeldFeet(const StepInput& in) {
       }
     }
     if (c.probability >= kNisMinProbability) nis_windows_.add(c.foot, nu, S, innovations_);
-    const Eigen::Matrix<double, D, 3> W = U * C_inv.transpose();
-    const double alpha = params_.feet_correct_yaw ? 0.0 : heading_.alpha();
-    if (alpha == 0.0) {
-      delta += W * nu_white;
-      P -= W.lazyProduct(W.transpose());
-    } else {
-      // The heading stays the gyro's (file comment): K' = (I - alpha E) K (alpha the rule's
-      // share by the turn rate, heading_rule.hpp), so the correction loses alpha E W C^-1 nu and
-      // P <- P - W W^T + alpha^2 (E W)(E W)^T (Joseph form with K'). E W = a psi + b beta: the
-      // heading row psi (world z of the rotation) times a, the turn of the robot about its base,
-      // which in the right-invariant error is e_z on the rotation, 0 on v, -(e_z x p) on p and on
-      // every foot and e_z on each held sole; and beta = up^T W_bg, the gyro bias's part along
-      // up = R_hat^T e_z, times b = up on the bias. a and b are sparse (at most 16 rows between
-      // them), so the rank-2 term is added on their rows and columns only.
-      const Vector3 p_turned = Vector3(p.y(), -p.x(), 0.0);  // -(e_z x p)
-      const Vector3 up = R.row(2).transpose();
-      HeadingColumns<D> ab;  // [a b] on its rows
-      ab.add(2, 1.0, 0.0);
-      for (int c = 1; c < Nav / 3 - 1; ++c) {
-        ab.add(3 + 3 * c, p_turned.x(), 0.0);
-        ab.add(4 + 3 * c, p_turned.y(), 0.0);
-      }
-      for (int k = 0; k < Rots; ++k) ab.add(Nav + 8 + 3 * k, 1.0, 0.0);
-      for (int j = 0; j < 3; ++j) ab.add(Nav + j, 0.0, up(j));
-      Eigen::Matrix<double, 2, 3> psi_beta;  // [psi; beta]
-      psi_beta.row(0) = W.template middleRows<1>(2);
-      psi_beta.row(1) = up.transpose() * W.template middleRows<3>(Nav);
-      delta += W * nu_white;
-      ab.addTo(delta, -alpha * (psi_beta * nu_white));
-      P -= W.lazyProduct(W.transpose());
-      ab.addTo(P, alpha * alpha * (psi_beta * psi_beta.transpose()));
-    }
+    correctWith(U * C_inv.transpose(), nu_white);
     corrected = true;
     if constexpr (Rots > 0) {
       if (rotation_of_foot_[c.foot] >= 0 && c.R_body) {
         // Its sole (file comment, "Flat feet"): r = Log(R_hat Z R_F,hat^T), H = [-I (phi), +I
-        // (phi_F)], N = R_F,hat rot_cov R_F,hat^T; not under the heading rule, not gated.
+        // (phi_F)], N = R_F,hat rot_cov R_F,hat^T; under the heading rule, not gated.
         const int f = Nav + 6 + 3 * rotation_of_foot_[c.foot];
         const Matrix3& R_F = foot_R_[c.foot];
         const Vector3 r =
@@ -477,9 +478,7 @@ void InvariantEkf::correctHeldFeet(const StepInput& in) {
           continue;
         }
         const Matrix3 C_F_inv = llt_F.matrixL().solve(Matrix3::Identity());
-        const Eigen::Matrix<double, D, 3> W_F = U_F * C_F_inv.transpose();
-        delta += W_F * (C_F_inv * nu_F);
-        P -= W_F.lazyProduct(W_F.transpose());
+        correctWith(U_F * C_F_inv.transpose(), C_F_inv * nu_F);
       }
     }
   }

@@ -483,23 +483,18 @@ void Tsif::step(const StepInput& raw) {
   std::array<Eigen::Matrix3d, kFeet> W_kin{};  // Cov_i^-1 of the kinematics of stance feet
   for (int i = 0; i < kFeet; ++i)
     if (kinematics[i]) W_kin[i] = weightOf(contact[i]->cov);
-  // Flat feet: the soles whose residual is used (with their foot's kinematics), rot_cov^-1. A sole
-  // placed at this step is the positions' (it says nothing of the rest); a held one is measured.
+  // Flat feet: the soles whose residual is used (with their foot's kinematics), rot_cov^-1.
   std::array<bool, kFeet> sole_used{};
   std::array<Eigen::Matrix3d, kFeet> W_sole{};
-  bool soles_measured = false;
   for (int i = 0; params_.flat_feet && i < kFlatFeet; ++i) {
     sole_used[i] = kinematics[i] && rotation_held_[i] && contact[i]->R_body.has_value();
     if (sole_used[i]) W_sole[i] = weightOf(contact[i]->rot_cov);
-    soles_measured = soles_measured || (sole_used[i] && !forgotten[i]);
   }
 
   // The linearisation of the last iteration, from which the new information is formed.
   Matrix27 H_prior;  // the prior's information in x0's tangent
   ImuResidual e;     // the IMU residual and its Jacobians
-  Matrix27 H_kin;    // the kinematics residuals' information on x1 (but the measured soles')
-  Matrix27 H_soles = Matrix27::Zero();   // the measured soles' (flat feet)
-  Vector27 g_soles = Vector27::Zero();   // and their J^T W r
+  Matrix27 H_kin;    // the kinematics residuals' information on x1 (the feet's, and their soles')
   Vector27 dx1_last = Vector27::Zero();  // the step of x1
   bool feet_used = false;                // a kinematics residual is in the problem
   for (int i = 0; i < kFeet; ++i) feet_used = feet_used || kinematics[i];
@@ -558,18 +553,9 @@ void Tsif::step(const StepInput& raw) {
     H_kin.setZero();
     for (int i = 0; i < kFeet; ++i) {
       if (kinematics[i]) addKinematics(x1, i, *contact[i], W_kin[i], H_kin, b2);
-      if (sole_used[i] && forgotten[i]) addSole(x1, R_F1[i], i, *contact[i], W_sole[i], H_kin, b2);
+      if (sole_used[i]) addSole(x1, R_F1[i], i, *contact[i], W_sole[i], H_kin, b2);
     }
     H22 += H_kin;
-    if (soles_measured) {
-      H_soles.setZero();
-      g_soles.setZero();
-      for (int i = 0; i < kFlatFeet; ++i)
-        if (sole_used[i] && !forgotten[i])
-          addSole(x1, R_F1[i], i, *contact[i], W_sole[i], H_soles, g_soles);
-      H22 += H_soles;
-      b2 += g_soles;
-    }
 
     if (params_.imu.gyro_bias_random_walk == 0.0) shareBias(kBg, H11, H12, H22, b1, b2);
     if (params_.imu.accel_bias_random_walk == 0.0) shareBias(kBa, H11, H12, H22, b1, b2);
@@ -585,11 +571,7 @@ void Tsif::step(const StepInput& raw) {
     S.selfadjointView<Eigen::Lower>().rankUpdate(Y.transpose(), -1.0);
     S = S.selfadjointView<Eigen::Lower>();
     const Eigen::LLT<Matrix27> llt22(S);
-    // Flat feet: S without the measured soles, whose step the heading rule takes its part from.
-    Eigen::LLT<Matrix27> llt_positions;
-    if (soles_measured) llt_positions.compute(S - H_soles);
-    if (llt11.info() != Eigen::Success || llt22.info() != Eigen::Success ||
-        (soles_measured && llt_positions.info() != Eigen::Success)) {
+    if (llt11.info() != Eigen::Success || llt22.info() != Eigen::Success) {
       // The contract's failed update: the step is not taken; the filter restarts from its
       // estimate before it, and the sample counts as a first sample.
       health_.record(Fault::kUpdateFailed, in.t);
@@ -600,12 +582,9 @@ void Tsif::step(const StepInput& raw) {
     const Vector27 b = b2 - Y.transpose() * z;  // b2 - H21 H11^-1 b1
     Vector27 dx1 = -llt22.solve(b);             // S dx1 = -b
     if (alpha > 0.0 && feet_used) {
-      // The heading rule: dx1 <- dx1 - alpha E dx1_positions, the heading part of the step that
-      // the positions alone take ((I - alpha E) dx1 with point feet; file comment, "Flat feet").
+      // The heading rule: dx1 <- (I - alpha E) dx1, the feet's and the soles' step alike.
       const Heading h = heading(x1, R_F1, params_.flat_feet);
-      const Vector27 dx1_positions =
-          soles_measured ? Vector27(-llt_positions.solve(b - g_soles)) : dx1;
-      dx1 -= alpha * h.V * (h.B.transpose() * dx1_positions);
+      dx1 -= alpha * h.V * (h.B.transpose() * dx1);
     }
     Vector27 dx0 = -(z + Y * dx1);  // H11 dx0 = -(b1 + H12 dx1)
     llt11.matrixU().solveInPlace(dx0);
@@ -634,16 +613,13 @@ void Tsif::step(const StepInput& raw) {
     // Q = P_pred - P_opt and E = V B^T), C = B^T Q B the 2 x 2 that the feet took from the
     // heading, in information form by the inversion lemma: Lambda+ = Lambda_opt - Lambda_opt V
     // C (I + V^T Lambda_opt V C)^-1 V^T Lambda_opt. A forgotten foot (no information yet) is
-    // decoupled from the heading: an identity block stands in for it in P_pred. With flat feet
-    // C = B^T (P_pred - P_positions) B, the positions' alone (file comment, "Flat feet").
+    // decoupled from the heading: an identity block stands in for it in P_pred.
     const Heading h = heading(x1_linearised, R_F1_linearised, params_.flat_feet);
-    const Matrix27 Lambda_positions = Lambda_ + H_kin;
-    const Matrix27 Lambda_opt =
-        soles_measured ? Matrix27(Lambda_positions + H_soles) : Lambda_positions;
+    const Matrix27 Lambda_opt = Lambda_ + H_kin;
     // Lambda_pred^-1 B = P_pred B: betweenMarginal's M gives it without a factorisation.
     const Eigen::Matrix<double, kDim, 2> PB_pred = P_pred.lazyProduct(h.B);
-    const Eigen::Matrix<double, kDim, 2> PB_positions = Lambda_positions.llt().solve(h.B);
-    Eigen::Matrix2d C = h.B.transpose() * (PB_pred - PB_positions);
+    const Eigen::Matrix<double, kDim, 2> PB_opt = Lambda_opt.llt().solve(h.B);
+    Eigen::Matrix2d C = h.B.transpose() * (PB_pred - PB_opt);
     C = (0.5 * alpha * alpha) * (C + C.transpose()).eval();  // alpha^2 C: K' = (I - alpha E) K
     const Eigen::Matrix<double, kDim, 2> LV = Lambda_opt.lazyProduct(h.V);
     const Eigen::Matrix2d inner = Eigen::Matrix2d::Identity() + h.V.transpose() * LV * C;
@@ -651,7 +627,6 @@ void Tsif::step(const StepInput& raw) {
     Lambda_ = Lambda_opt - LVK.lazyProduct(LV.transpose());
   } else {
     Lambda_ += H_kin;
-    if (soles_measured) Lambda_ += H_soles;
   }
   // That information is in the tangent at x1 before its step; moved to the tangent at x1 (+) dx1
   // (the ESKF's reset): dtheta+ = G dtheta, G = I - [dtheta1 / 2]_x, so Lambda <- G^-T Lambda G^-1

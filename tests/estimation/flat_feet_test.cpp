@@ -212,42 +212,50 @@ TEMPLATE_TEST_CASE("Flat feet: the base and the soles stay consistent over a Mon
 }
 
 TEMPLATE_TEST_CASE(
-    "Flat feet: the soles learn the gyro bias about the vertical that point feet may not "
-    "under the whole heading rule",
+    "Flat feet: the heading rule holds the soles as it holds the positions, and walking straight "
+    "the soles learn the gyro bias about the vertical faster than point feet",
     "[57.5][eskf][inekf][tsif][flat-feet][heading]", EskfFlat, InekfFlat, TsifFlat) {
   // A turn-on bias of 0.005 rad/s about the body's z (a MEMS gyro's, 0.3 deg/s; 2.5 sigma of
-  // the filters' prior): with point feet the whole heading rule (heading_turn_rate 0, as when the
-  // robot turns or a foot slips) leaves the heading to the gyro, which drifts with the bias; a
-  // standing sole shows the body's rotation against a foot that does not turn, and the ESKF learns
-  // it. Slowly: a stance of 0.2 s sees 1 mrad of it, as much as the gyro's own noise over that time
-  // (measured: 5 runs of 5 s, bias error 3.3e-3 rad/s against the point feet's 5.0e-3, sigma 1.4e-3
-  // against the prior's 2.0e-3; the InEKF 3.3e-3 and 1.4e-3).
+  // the filters' prior). Under the whole heading rule (heading_turn_rate 0, as while the robot
+  // turns fast or a foot slips) no foot update, a sole's included, may move the heading or the
+  // gyro bias about the vertical: its standard deviation stays the prior's. Walking straight (the
+  // default rule, alpha near 0) a standing sole shows the body's rotation against a foot that
+  // does not turn, with no leg scale in it, and the filter learns the bias from it and from the
+  // positions. Slowly: a stance of 0.2 s sees 1 mrad of it, as much as the gyro's own noise over
+  // that time (measured, 5 runs of 5 s, each of the three filters: whole rule 4.99e-3 rad/s of
+  // error, sigma 2.00e-3, the prior's; flat feet 3.8e-3 and 1.47e-3; point feet 4.8e-3 and
+  // 1.86e-3). Before the soles came under the rule, the whole rule left them 3.3e-3 and 1.4e-3.
   constexpr double kBias = 0.005;
-  double flat = 0.0, point = 0.0, tilt_flat = 0.0, tilt_point = 0.0, sigma_flat = 0.0,
-         sigma_point = 0.0;
+  struct Mean {
+    double error = 0.0, sigma = 0.0, tilt = 0.0;  // |b_g,z - kBias|, its sigma, tilt RMS
+    void add(const Errors& e, int runs) {
+      error += std::abs(e.bias_z - kBias) / runs;
+      sigma += e.sigma_bias_z / runs;
+      tilt += e.tilt_rms / runs;
+    }
+  };
+  Mean flat_whole, flat, point;
   constexpr int kRuns = 5;
   for (int j = 0; j < kRuns; ++j) {
     model::ImuBias bias;
     bias.b_g = Eigen::Vector3d(0.0, 0.0, kBias);
     const Biped b = bipedRun(40 + j, bias);
-    const Errors f = run<TestType>(b, bipedParams<TestType>(true), 60 + j);
-    auto whole_rule = bipedParams<TestType>(false);
+    auto whole_rule = bipedParams<TestType>(true);
     whole_rule.heading_turn_rate = 0.0;
-    const Errors p = run<TestType>(b, whole_rule, 60 + j);
-    flat += std::abs(f.bias_z - kBias) / kRuns;
-    point += std::abs(p.bias_z - kBias) / kRuns;
-    sigma_flat += f.sigma_bias_z / kRuns;
-    sigma_point += p.sigma_bias_z / kRuns;
-    tilt_flat += f.tilt_rms / kRuns;
-    tilt_point += p.tilt_rms / kRuns;
+    flat_whole.add(run<TestType>(b, whole_rule, 60 + j), kRuns);
+    flat.add(run<TestType>(b, bipedParams<TestType>(true), 60 + j), kRuns);
+    point.add(run<TestType>(b, bipedParams<TestType>(false), 60 + j), kRuns);
   }
-  INFO("gyro bias error about z after 5 s: flat feet "
-       << flat << " rad/s, point feet " << point << " rad/s; sigma " << sigma_flat << " / "
-       << sigma_point << " rad/s; tilt RMS " << tilt_flat << " / " << tilt_point << " rad");
-  CHECK(flat < 0.8 * point);
-  CHECK(sigma_flat < 0.8 * sigma_point);
-  CHECK(sigma_point > 0.99 * bipedParams<TestType>(false).sigma_gyro_bias);  // the heading rule's
-  CHECK(tilt_flat < tilt_point);
+  INFO("gyro bias error about z after 5 s [rad/s] (sigma): flat feet, whole rule "
+       << flat_whole.error << " (" << flat_whole.sigma << "); flat feet " << flat.error << " ("
+       << flat.sigma << "); point feet " << point.error << " (" << point.sigma << "); tilt RMS "
+       << flat.tilt << " / " << point.tilt << " rad");
+  const double prior = bipedParams<TestType>(true).sigma_gyro_bias;
+  CHECK(flat_whole.sigma > 0.99 * prior);
+  CHECK(flat_whole.error > 0.9 * kBias);
+  CHECK(flat.error < 0.9 * point.error);
+  CHECK(flat.sigma < 0.9 * point.sigma);
+  CHECK(flat.tilt < point.tilt);
 }
 
 TEMPLATE_TEST_CASE("Flat feet: no heap allocation per step, through touchdowns and lift-offs",
