@@ -61,6 +61,13 @@ std::string noGait() {
          "them)";
 }
 
+RunStart runStart(const io::Log& log, const Settings& settings) {
+  if (settings.gyro_bias_start != GyroBiasStart::kStillWindow) return {};
+  RunStart start{stillStart(log, settings.initialisation), ""};
+  start.note = describeStart(start.still);
+  return start;
+}
+
 RunResult runWithSettings(const io::Log& recorded, const Settings& settings,
                           const std::string& estimator, const contact::DetectorContext& context,
                           const std::optional<EstimateSample>& x0) {
@@ -87,16 +94,10 @@ RunResult runWithSettings(const io::Log& recorded, const Settings& settings,
   ContactPipeline pipeline(frontend, options, robot);
   const std::unique_ptr<Estimator> e = makeEstimator(estimator, settings);
   const double window = settings.truth_velocity_window;
-  // initialisation.gyro_bias (settings.hpp): the still start's mean rate, when the log has one.
-  std::optional<Eigen::Vector3d> b_g0;
-  std::string start;
-  if (settings.gyro_bias_start == GyroBiasStart::kStillWindow) {
-    const std::optional<StillStart> still = stillStart(log, settings.initialisation);
-    if (still) b_g0 = still->b_g;
-    start = describeStart(still);
-  }
-  RunResult run = runOnLog(*e, log, pipeline, x0 ? *x0 : initialState(log, window), window, b_g0);
-  run.start = start;
+  const RunStart start = runStart(log, settings);
+  RunResult run =
+      runOnLog(*e, log, pipeline, x0 ? *x0 : initialState(log, window), window, start.gyroBias());
+  run.start = start.note;
   for (std::size_t k = 0; k < run.trajectory.size(); ++k) run.trajectory[k].t = recorded.rows[k].t;
   return run;
 }

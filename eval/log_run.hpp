@@ -47,12 +47,24 @@ LogFrontend logFrontend(const io::LogLayout& layout, const model::LegKinematics*
 // that gives one.
 std::string noGait();
 
+// The start initialisation.gyro_bias asks for on `log` (settings.hpp): with still-window the
+// log's still window (stillStart) and describeStart's line; with zero neither.
+struct RunStart {
+  std::optional<StillStart> still;  // the window, when asked for and found
+  std::string note;                 // describeStart's line; empty when the settings say zero
+  // The gyro bias every estimator starts from (runOnLog): the window's, or nullopt (zero).
+  std::optional<Eigen::Vector3d> gyroBias() const {
+    return still ? std::optional<Eigen::Vector3d>(still->b_g) : std::nullopt;
+  }
+};
+RunStart runStart(const io::Log& log, const Settings& settings);
+
 // One estimator over a whole recorded log as `legkit run --log F --config S` runs it: the time
 // base checked (std::invalid_argument naming the row), the settings' front end (stamps, joint
 // velocities), noise, limits, contact pipeline (the detectors' forces scaled to the robot's
 // weight, then the settings' own: detectorContext; the gait and the logistic model of `context`,
 // the gait when it has none from the settings' contact.gait), robot and IMU extrinsic, from x0
-// (default: initialState) and the gyro bias initialisation.gyro_bias gives (stillStart), a
+// (default: initialState) and the gyro bias initialisation.gyro_bias gives (runStart), a
 // pose-only truth differentiated over frontend.truth_velocity_window.
 // The trajectory keeps the log's own stamps, as the estimate files do (the estimator ran on the
 // conditioned ones), so that it lines up with the log row for row.

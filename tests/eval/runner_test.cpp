@@ -9,6 +9,7 @@
 
 #include "estimation/imu/dead_reckoning_estimator.hpp"
 #include "estimation/leg_odometry/leg_odometry_estimator.hpp"
+#include "eval/log_run.hpp"
 #include "eval/monte_carlo.hpp"
 #include "eval/runner.hpp"
 #include "io/log_reader.hpp"
@@ -233,6 +234,17 @@ TEST_CASE("runner: the still start gives the window's mean rate; a log that move
   CHECK_THAT(eval::describeStart(still),
              Catch::Matchers::StartsWith("gyro bias [0.00200, -0.00300, -0.00570] rad/s"));
   CHECK_THAT(eval::describeStart(std::nullopt), Catch::Matchers::Contains("starts at zero"));
+  // runStart: what the settings ask for. Zero (the default) reads no window and says nothing.
+  Settings settings;
+  const eval::RunStart zero = eval::runStart(standingLog(4.0, b), settings);
+  CHECK_FALSE(zero.still);
+  CHECK_FALSE(zero.gyroBias());
+  CHECK(zero.note.empty());
+  settings.gyro_bias_start = GyroBiasStart::kStillWindow;
+  const eval::RunStart window = eval::runStart(standingLog(4.0, b), settings);
+  REQUIRE(window.gyroBias());
+  CHECK(*window.gyroBias() == still->b_g);
+  CHECK(window.note == eval::describeStart(still));
 
   io::Log turning = standingLog(4.0, b);  // turns back and forth at 1 rad/s, 1 Hz, from row 0
   for (io::LogRow& row : turning.rows) row.gyro.z() += std::sin(2.0 * M_PI * row.t);

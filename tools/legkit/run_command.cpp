@@ -740,13 +740,9 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
   if (settings) truth_options.velocity_window = settings->truth_velocity_window;
   const EstimateSample x0 = eval::initialState(log, truth_options.velocity_window);
   // initialisation.gyro_bias: still-window starts every estimator's gyro bias from the log's
-  // still start (eval::stillStart); without a still window the run says so and starts at zero.
-  const bool still_bias = settings && settings->gyro_bias_start == GyroBiasStart::kStillWindow;
-  const std::optional<eval::StillStart> still =
-      still_bias ? eval::stillStart(log, settings->initialisation) : std::nullopt;
-  const std::string start_note = still_bias ? eval::describeStart(still) : std::string();
-  const std::optional<Eigen::Vector3d> b_g0 =
-      still ? std::optional<Eigen::Vector3d>(still->b_g) : std::nullopt;
+  // still start; without a still window the run says so and starts at zero.
+  const eval::RunStart start = settings ? eval::runStart(log, *settings) : eval::RunStart{};
+  const std::optional<eval::StillStart>& still = start.still;
   std::vector<RunRow> rows;
   // The feet's names for the per-foot contact diagnostics: the robot's, or the quadruped's legs.
   std::vector<std::string> foot_names;
@@ -763,7 +759,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
       estimator_settings.estimators.empty() ? estimatorNames() : estimator_settings.estimators;
   for (const std::string& name : names) {
     const std::unique_ptr<Estimator> e = makeEstimator(name, estimator_settings);
-    RunRow r{eval::runOnLog(*e, log, pipeline, x0, truth_options.velocity_window, b_g0),
+    RunRow r{eval::runOnLog(*e, log, pipeline, x0, truth_options.velocity_window, start.gyroBias()),
              std::nullopt, std::nullopt, foot_names};
     if (log.layout.ground_truth && !r.run.failed()) {
       r.metrics = eval::compare(log, r.run.trajectory, {kRpeDistances.begin(), kRpeDistances.end()},
@@ -811,7 +807,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
        {{"gyro_bias", still ? nlohmann::json({still->b_g.x(), still->b_g.y(), still->b_g.z()})
                             : nlohmann::json(nullptr)},
         {"still_window_end_s", still ? nlohmann::json(still->t_end) : nlohmann::json(nullptr)},
-        {"note", start_note.empty() ? nlohmann::json(nullptr) : nlohmann::json(start_note)}}},
+        {"note", start.note.empty() ? nlohmann::json(nullptr) : nlohmann::json(start.note)}}},
       {"samples", log.rows.size()},
       {"estimate_rate_hz",
        estimate_rate_ > 0.0 ? nlohmann::json(estimate_rate_) : nlohmann::json("all")},
@@ -830,7 +826,7 @@ int RunCommand::run(std::ostream& out, const std::string& command_line) const {
     if (settings) out << "settings: " << config_ << "\n";
     out << "contacts: " << contacts << "\n";
     if (conditioning) out << "front end: " << conditioning->describe() << "\n";
-    if (!start_note.empty()) out << "start: " << start_note << "\n";
+    if (!start.note.empty()) out << "start: " << start.note << "\n";
     if (training_s) {
       out << "logistic contact model trained on simulated physics runs (seeds " << seed_ + 1000
           << ".." << seed_ + 1002 << ") in " << cell(*training_s, 1) << " s\n";
