@@ -1,5 +1,6 @@
 """legkit.estimators: the same estimators as the command line, step by step and over a whole log."""
 import csv
+import json
 import subprocess
 
 import numpy as np
@@ -71,6 +72,9 @@ def test_run_is_legkit_run_on_a_real_robots_log(tmp_path):
     for name, r in runs.items():
         cli = read_estimates(out / f"estimate_{name}.csv")
         assert r["healthy"] and r["failure"] is None, name
+        # icub.yaml starts every gyro bias from the still window, as the CLI's start: line says.
+        assert r["start"].startswith("gyro bias [")
+        assert r["start"] == json.loads((out / "summary.json").read_text())["start"]["note"]
         assert np.array_equal(r["t"], log["t"])
         np.testing.assert_allclose(cli["t"], log["t"], rtol=1e-9)
         for key, cols in (("p", "pxyz"), ("v", "vxyz")):
