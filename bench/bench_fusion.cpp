@@ -6,6 +6,8 @@
 //   BM_DelayedPose     DelayedFilter<InvariantEkf>::updatePose with a pose 80 ms old: the update
 //                      at its stamp and the re-propagation of the 80 samples since (1 kHz); the
 //                      filter with its 0.5 s of history is restored (untimed) before each call
+//   BM_DelayedStep     DelayedFilter<InvariantEkf>::step with its history full: the InEKF's step
+//                      and the history's snapshot of it
 //   BM_SmootherWindow  FixedLagSmoother: 0.1 s of input (100 samples at 1 kHz, the poses that
 //                      arrived), i.e. one new keyframe and its window solve (2 s window, default
 //                      options); restarted (untimed) when the 10 s run is used up, timed only
@@ -135,6 +137,31 @@ void BM_DelayedPose(benchmark::State& state) {
   state.counters["used"] = static_cast<double>(filter.stats().used);
 }
 BENCHMARK(BM_DelayedPose);
+
+// One sample into the delayed InEKF with its 0.5 s of history full: the filter's step and its
+// share of the history's snapshots. Goes on through the log's 10 s, restarting (untimed) at its
+// end.
+void BM_DelayedStep(benchmark::State& state) {
+  const Setup& s = setup();
+  const io::LogRow& first = s.log.rows.front();
+  fusion::DelayedFilter<invariant::InvariantEkf> ready{invariant::InvariantEkf{}};
+  ready.reset({first.t, first.gt_q, first.gt_v, first.gt_p});
+  constexpr std::size_t kWarm = fusion::DelayedFilter<invariant::InvariantEkf>::kDefaultCapacity;
+  for (std::size_t k = 0; k < kWarm; ++k) ready.step(s.inputs[k]);
+  fusion::DelayedFilter<invariant::InvariantEkf> filter = ready;
+  std::size_t k = kWarm;
+  for (auto _ : state) {
+    if (k == s.inputs.size()) {
+      state.PauseTiming();
+      filter = ready;
+      k = kWarm;
+      state.ResumeTiming();
+    }
+    filter.step(s.inputs[k++]);
+    benchmark::DoNotOptimize(filter.estimate());
+  }
+}
+BENCHMARK(BM_DelayedStep);
 
 void BM_SmootherWindow(benchmark::State& state) {
   const Setup& s = setup();
