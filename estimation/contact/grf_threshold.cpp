@@ -3,15 +3,20 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "estimation/contact/gait_clock.hpp"
 
 namespace legkit::contact {
 
-FootForceReader::FootForceReader(ForceSource source, const ForceChecks& checks,
+FootForceReader::FootForceReader(ForceSource source, const ForceChecks& checks, const char* who,
                                  const model::QuadrupedGeometry& geometry,
                                  const model::QuadrupedInertia& inertia)
     : source_(source), checks_(checks) {
+  if (!(checks.stuck_time > 0.0))
+    throw std::invalid_argument(std::string(who) + ": stuck_time must be positive");
+  if (!(checks.negative_limit <= 0.0))
+    throw std::invalid_argument(std::string(who) + ": negative_limit must be <= 0");
   if (source == ForceSource::kJointTorque) torque_.emplace(geometry, inertia);
 }
 
@@ -55,26 +60,14 @@ ContactEstimate FootForceReader::read(const ContactSignals& s, const char* who) 
   return out;
 }
 
-namespace {
-
-ForceChecks checksOf(const GrfThresholdParams& p) {
-  return ForceChecks{p.saturation, p.stuck_time, p.negative_limit};
-}
-
-}  // namespace
-
 GrfThresholdDetector::GrfThresholdDetector(const GrfThresholdParams& params, ForceSource source,
                                            const model::QuadrupedGeometry& geometry,
                                            const model::QuadrupedInertia& inertia)
-    : params_(params), reader_(source, checksOf(params), geometry, inertia) {
+    : params_(params), reader_(source, params, "grf-threshold", geometry, inertia) {
   if (!std::isfinite(params.threshold))
     throw std::invalid_argument("grf-threshold: threshold not finite");
   if (!(params.saturation > params.threshold))
     throw std::invalid_argument("grf-threshold: saturation must be above the threshold");
-  if (!(params.stuck_time > 0.0))
-    throw std::invalid_argument("grf-threshold: stuck_time must be positive");
-  if (!(params.negative_limit <= 0.0))
-    throw std::invalid_argument("grf-threshold: negative_limit must be <= 0");
 }
 
 std::string GrfThresholdDetector::name() const {

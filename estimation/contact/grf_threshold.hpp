@@ -49,7 +49,9 @@ struct ForceChecks {
 class FootForceReader {
  public:
   // The torque source needs the robot's geometry and inertia; the sensor source ignores them.
-  FootForceReader(ForceSource source, const ForceChecks& checks,
+  // Throws std::invalid_argument, its message starting with `who` (the detector's name), for a
+  // non-positive stuck_time or a positive negative_limit.
+  FootForceReader(ForceSource source, const ForceChecks& checks, const char* who,
                   const model::QuadrupedGeometry& geometry = model::QuadrupedGeometry::go2(),
                   const model::QuadrupedInertia& inertia = model::QuadrupedInertia::go2());
 
@@ -68,11 +70,9 @@ class FootForceReader {
   std::array<double, kMaxFeet> saturated_time_{};
 };
 
-struct GrfThresholdParams {
-  double threshold = 30.0;        // F_threshold [N]
-  double saturation = 150.0;      // [N], see ForceChecks
-  double stuck_time = 1.0;        // [s], see ForceChecks
-  double negative_limit = -10.0;  // [N], see ForceChecks
+// The threshold, and the force checks of the reader (ForceChecks above).
+struct GrfThresholdParams : ForceChecks {
+  double threshold = 30.0;  // F_threshold [N]
 };
 
 class GrfThresholdDetector : public ContactDetector {

@@ -54,15 +54,10 @@ SchmittDetector::SchmittDetector(const SchmittParams& params, ForceSource source
                                  const model::QuadrupedGeometry& geometry,
                                  const model::QuadrupedInertia& inertia)
     : params_(params),
-      reader_(source, ForceChecks{params.saturation, params.stuck_time, params.negative_limit},
-              geometry, inertia),
+      reader_(source, params, "schmitt", geometry, inertia),
       triggers_(triggersOf(params)) {
   if (!(params.saturation > params.f_high))
     throw std::invalid_argument("schmitt: saturation must be above f_high");
-  if (!(params.stuck_time > 0.0))
-    throw std::invalid_argument("schmitt: stuck_time must be positive");
-  if (!(params.negative_limit <= 0.0))
-    throw std::invalid_argument("schmitt: negative_limit must be <= 0");
 }
 
 std::string SchmittDetector::name() const {

@@ -16,12 +16,11 @@
 
 namespace legkit::contact {
 
-struct SchmittParams {
+// The thresholds and hold times, and the force checks of the reader (ForceChecks,
+// grf_threshold.hpp).
+struct SchmittParams : ForceChecks {
   double f_high = 50.0, f_low = 20.0;  // F_high, F_low [N]
   double t_on = 0.005, t_off = 0.005;  // T_on, T_off [s]
-  double saturation = 150.0;           // [N], see ForceChecks (grf_threshold.hpp)
-  double stuck_time = 1.0;             // [s], see ForceChecks
-  double negative_limit = -10.0;       // [N], see ForceChecks
 };
 
 // The kit's design for its Go2-class robot and foot sensors (what makeDetector uses): the

@@ -111,13 +111,13 @@
 //   r = Log(R_hat Z R_F,hat^T) = phi - phi_F + R_F n = -delta_phi + delta_phiF + R_F n,
 //   H = [-I (phi), .., +I (phi_F), ..],   N = R_F,hat rot_cov R_F,hat^T,
 // estimate-independent again: a second 3 x 3 update right after the foot's position (only when
-// the position was used; outside the gate and the NIS windows; under the heading rule). At touchdown R_F,hat = R_hat Z
-// with the corrected attitude (whatever touchdown_attitude says: the reference has no soles),
-// R_hat Z = Exp(phi) Exp(R_F n) R_F, so phi_F = phi + R_F n: its rows of P copy phi's, plus N.
-// At lift-off its rows and columns are removed; a correction moves it as the group, R_F,hat <-
-// Exp(delta_phiF) R_F,hat. As in the ESKF the heading rule takes its share of a sole's update as
-// of a position's; the turn about the base is e_z on every held sole's error, as on the attitude
-// (both in the world frame). Measured on the iCub log (legkit run --log
+// the position was used; outside the gate and the NIS windows; under the heading rule). At
+// touchdown R_F,hat = R_hat Z with the corrected attitude (whatever touchdown_attitude says: the
+// reference has no soles), R_hat Z = Exp(phi) Exp(R_F n) R_F, so phi_F = phi + R_F n: its rows of P
+// copy phi's, plus N. At lift-off its rows and columns are removed; a correction moves it as the
+// group, R_F,hat <- Exp(delta_phiF) R_F,hat. As in the ESKF the heading rule takes its share of a
+// sole's update as of a position's; the turn about the base is e_z on every held sole's error, as
+// on the attitude (both in the world frame). Measured on the iCub log (legkit run --log
 // data/icub-walking/walking.csv --config config/robots/icub.yaml; position RMSE, roll/pitch and
 // yaw RMS; the gyro alone 2.39 deg from a zero gyro bias, 0.29 from the still window's): point
 // feet 0.025 m, 0.61 deg, 2.43 deg from zero, 0.010 m, 0.58, 0.24 from the still window; flat

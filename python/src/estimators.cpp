@@ -142,7 +142,8 @@ py::dict runArrays(const eval::RunResult& run, int num_feet) {
   d["healthy"] = run.ok();
   d["failure"] = run.failure ? py::object(py::str(eval::describe(*run.failure))) : py::none();
   d["us_per_step"] = run.us_per_step;
-  // How its gyro bias started (initialisation.gyro_bias: still-window), as legkit run's start: line.
+  // How its gyro bias started (initialisation.gyro_bias: still-window), as legkit run's start:
+  // line.
   d["start"] = run.start.empty() ? py::object(py::none()) : py::object(py::str(run.start));
   return d;
 }
@@ -459,7 +460,8 @@ void bindEstimators(py::module_& m) {
       "{'t', 'q' (N,4 w x y z), 'p', 'v' (N,3), 'sigma' (N,9: theta, v, p), 'nees', 'nees_dof', "
       "'contacts' (N, feet), 'slip' (per row: feet 'checked', 'slipping', 'all_slipping', the "
       "'outlier' foot or -1, and the 'reaction'), 'health', 'healthy', 'failure', "
-      "'us_per_step', 'start' (the still start's line, or None when the gyro bias started at zero)}}. "
+      "'us_per_step', 'start' (the still start's line, or None when the gyro bias started at "
+      "zero)}}. "
       "The GIL is "
       "released while it runs.");
 }

@@ -9,6 +9,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "estimation/contact/foot_force.hpp"
@@ -90,6 +91,31 @@ TEST_CASE("Schmitt trigger: other thresholds and hold times, zero hold", "[57.6]
   bad = SchmittParams{};
   bad.t_on = -0.001;
   CHECK_THROWS_AS(SchmittTrigger(bad), std::invalid_argument);
+}
+
+TEST_CASE("Both force detectors refuse force checks that cannot hold, naming themselves",
+          "[57.6]") {
+  using Catch::Matchers::Equals;
+  // The reader's checks (ForceChecks, shared by both detectors' params): each spoiled, and why.
+  const std::vector<std::pair<void (*)(ForceChecks&), std::string>> spoiled = {
+      {+[](ForceChecks& c) { c.stuck_time = 0.0; }, "stuck_time must be positive"},
+      {+[](ForceChecks& c) { c.negative_limit = 1.0; }, "negative_limit must be <= 0"}};
+  for (const auto& [spoil, why] : spoiled) {
+    GrfThresholdParams grf;
+    SchmittParams schmitt;
+    spoil(grf);
+    spoil(schmitt);
+    CHECK_THROWS_WITH(GrfThresholdDetector(grf), Equals("grf-threshold: " + why));
+    CHECK_THROWS_WITH(SchmittDetector(schmitt), Equals("schmitt: " + why));
+  }
+  // The full scale, above each detector's own threshold.
+  GrfThresholdParams grf;
+  grf.saturation = grf.threshold;
+  CHECK_THROWS_WITH(GrfThresholdDetector(grf),
+                    Equals("grf-threshold: saturation must be above the threshold"));
+  SchmittParams schmitt;
+  schmitt.saturation = schmitt.f_high;
+  CHECK_THROWS_WITH(SchmittDetector(schmitt), Equals("schmitt: saturation must be above f_high"));
 }
 
 TEST_CASE("Schmitt suppresses the chatter a plain threshold shows on a noisy force", "[57.6]") {

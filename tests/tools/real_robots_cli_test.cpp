@@ -45,9 +45,10 @@ int runLegkit(const fs::path& dir, std::vector<std::string> arguments,
 
 }  // namespace
 
-TEST_CASE("The shipped iCub log: from its still start, the flat-foot filters within 1.2 cm and "
-          "no yaw worse than the gyro's",
-          "[cli][real-robot]") {
+TEST_CASE(
+    "The shipped iCub log: from its still start, the flat-foot filters within 1.2 cm and "
+    "no yaw worse than the gyro's",
+    "[cli][real-robot]") {
   const test::ScratchFolder dir("icub_cli");
   std::map<std::string, Row> t;
   std::string output;
@@ -86,9 +87,10 @@ TEST_CASE("The shipped iCub log: from its still start, the flat-foot filters wit
   CHECK(t.at("linear-kf").yaw <= gyro_yaw + 0.1);
 }
 
-TEST_CASE("The iCub with point feet from its still start: every filter within 1.2 cm, no yaw "
-          "worse than the gyro's",
-          "[cli][real-robot]") {
+TEST_CASE(
+    "The iCub with point feet from its still start: every filter within 1.2 cm, no yaw "
+    "worse than the gyro's",
+    "[cli][real-robot]") {
   // icub.yaml with point feet, its model given by an absolute path.
   const test::ScratchFolder dir("icub_point_feet");
   std::string yaml = test::slurp(LEGKIT_SOURCE_DIR "/config/robots/icub.yaml");
