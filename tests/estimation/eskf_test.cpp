@@ -298,25 +298,8 @@ TEST_CASE("ESKF: a touchdown initialises the foot from the kinematics", "[57.5][
 }
 
 TEST_CASE("ESKF: without contacts it is IMU dead reckoning", "[57.5][eskf]") {
-  const io::Log log = trotLog(2.0, 3, false);
-  std::vector<StepInput> inputs = inputsOf(log);
-  const EstimateSample x0 = eval::initialState(log);
   Eskf filter;
-  filter.reset(x0);
-  State dr;
-  dr.R = lie::SO3d::fromQuaternion(x0.q);
-  dr.v = x0.v;
-  dr.p = x0.p;
-  double worst = 0.0;
-  for (std::size_t k = 0; k < inputs.size(); ++k) {
-    inputs[k].num_contacts = 0;
-    filter.step(inputs[k]);
-    if (k > 0) dr = exactMotion(dr, inputs[k - 1].imu, inputs[k].dt);
-    const State& x = filter.state();
-    worst = std::max({worst, (x.p - dr.p).norm(), (x.v - dr.v).norm(), x.R.rminus(dr.R).norm()});
-    REQUIRE(x.b_g.norm() == 0.0);  // nothing observes the biases
-  }
-  CHECK(worst < 1e-9);
+  legkit::test::checkDeadReckoningWithoutContacts(filter, 0.0);  // the bias stays exactly 0
 }
 
 TEST_CASE("ESKF: a zero bias random walk is a constant bias", "[57.5][eskf]") {
@@ -354,19 +337,9 @@ TEST_CASE("ESKF: a zero bias random walk is a constant bias", "[57.5][eskf]") {
 }
 
 TEST_CASE("ESKF: a noiseless trot is tracked", "[57.5][eskf]") {
-  const io::Log log = trotLog(5.0, 1, true);
-  const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
   Eskf filter;
-  const eval::RunResult run = eval::runOnLog(filter, log, frontend, eval::initialState(log));
-  const eval::Metrics m = eval::compare(log, run.trajectory);
-  INFO("position RMSE " << m.position_rmse << " m, velocity RMSE " << m.velocity_rmse
-                        << " m/s, tilt " << m.tilt_rmse_deg << " deg, yaw " << m.yaw_rmse_deg
-                        << " deg");
-  CHECK(m.position_rmse < 5e-3);
-  CHECK(m.velocity_rmse < 5e-3);
-  CHECK(m.tilt_rmse_deg < 0.05);
-  CHECK(m.yaw_rmse_deg < 0.05);
-  for (int i = 0; i < eskf::kFeet; ++i) CHECK(filter.inContact(i) == log.rows.back().contact[i]);
+  legkit::test::checkNoiselessTrotTracked(filter,
+                                          [](const Eskf& f, int i) { return f.inContact(i); });
 }
 
 TEST_CASE("ESKF: P stays symmetric positive definite; covariance() maps the attitude",
@@ -400,13 +373,7 @@ TEST_CASE("ESKF: bad input throws and leaves the state untouched", "[57.5][eskf]
   std::array<bool, eskf::kFeet> contact_before{};
   for (int i = 0; i < eskf::kFeet; ++i) contact_before[i] = filter.inContact(i);
   checkStepFaultsRefused(filter, good, [&] {
-    const State& x = filter.state();
-    CHECK(x.R.matrix() == before.R.matrix());
-    CHECK(x.v == before.v);
-    CHECK(x.p == before.p);
-    for (int i = 0; i < eskf::kFeet; ++i) CHECK(x.d[i] == before.d[i]);
-    CHECK(x.b_g == before.b_g);
-    CHECK(x.b_a == before.b_a);
+    legkit::test::checkSameState(filter.state(), before);
     CHECK(filter.P() == P_before);
     CHECK(filter.estimate().t == estimate_before.t);
     for (int i = 0; i < eskf::kFeet; ++i) CHECK(filter.inContact(i) == contact_before[i]);

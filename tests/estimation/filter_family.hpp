@@ -1,7 +1,7 @@
 // What the ESKF, the InEKF and the TSIF (section 57.5, one params block: FilterParams) are
 // tested on alike: the contract's bad inputs, each refused with its message and nothing changed,
-// the family's parameter checks, and the Monte Carlo NEES of a filter started from an error
-// drawn from its own prior. Each filter's test file says what it expects of these.
+// the family's parameter checks, the noiseless trot, and the Monte Carlo NEES of a filter started
+// from an error drawn from its own prior. Each filter's test file says what it expects of these.
 #pragma once
 
 #include <catch2/catch.hpp>
@@ -160,6 +160,26 @@ NeesResult monteCarloNees(int runs, Params params, double prior_scale,
   r.fraction = static_cast<double>(inside) / anees.size();
   r.above = static_cast<double>(above) / anees.size();
   return r;
+}
+
+// The noiseless trot (5 s, seed 1) from its first true state: the filter tracks it to 5 mm,
+// 5 mm/s and 0.05 deg of tilt and of yaw, and its last sample's feet are the log's contacts
+// (inContact(filter, i): whether the filter holds foot i in contact, in its own terms).
+template <class Filter, class InContact>
+void checkNoiselessTrotTracked(Filter& filter, const InContact& inContact) {
+  const io::Log log = trotLog(5.0, 1, true);
+  const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
+  const eval::RunResult run = eval::runOnLog(filter, log, frontend, eval::initialState(log));
+  const eval::Metrics m = eval::compare(log, run.trajectory);
+  INFO("position RMSE " << m.position_rmse << " m, velocity RMSE " << m.velocity_rmse
+                        << " m/s, tilt " << m.tilt_rmse_deg << " deg, yaw " << m.yaw_rmse_deg
+                        << " deg");
+  CHECK(m.position_rmse < 5e-3);
+  CHECK(m.velocity_rmse < 5e-3);
+  CHECK(m.tilt_rmse_deg < 0.05);
+  CHECK(m.yaw_rmse_deg < 0.05);
+  for (int i = 0; i < io::kNumLegs; ++i)
+    CHECK(inContact(filter, i) == static_cast<bool>(log.rows.back().contact[i]));
 }
 
 // The noise model of the simulator: its feet are points that never slip, so the contact-point

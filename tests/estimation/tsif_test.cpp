@@ -151,25 +151,8 @@ TEST_CASE("TSIF: the IMU weight is the inverse of the integrated noise", "[57.5]
 }
 
 TEST_CASE("TSIF: without contacts it is IMU dead reckoning", "[57.5][tsif]") {
-  const io::Log log = trotLog(2.0, 3, false);
-  std::vector<StepInput> inputs = inputsOf(log);
-  const EstimateSample x0 = eval::initialState(log);
   Tsif filter;
-  filter.reset(x0);
-  State dr;  // dead reckoning with zero bias, the same exact step
-  dr.R = lie::SO3d::fromQuaternion(x0.q);
-  dr.v = x0.v;
-  dr.p = x0.p;
-  double worst = 0.0;
-  for (std::size_t k = 0; k < inputs.size(); ++k) {
-    inputs[k].num_contacts = 0;
-    filter.step(inputs[k]);
-    if (k > 0) dr = exactMotion(dr, inputs[k - 1].imu, inputs[k].dt);
-    const State& x = filter.state();
-    worst = std::max({worst, (x.p - dr.p).norm(), (x.v - dr.v).norm(), x.R.rminus(dr.R).norm()});
-    REQUIRE(x.b_g.norm() < 1e-12);  // nothing observes the biases
-  }
-  CHECK(worst < 1e-9);
+  legkit::test::checkDeadReckoningWithoutContacts(filter, 1e-12);
 }
 
 TEST_CASE("TSIF: a zero bias random walk is a constant bias", "[57.5][tsif]") {
@@ -254,22 +237,13 @@ TEST_CASE("TSIF: its information is the inverse of the propagated covariance", "
 }
 
 TEST_CASE("TSIF: a noiseless trot is tracked", "[57.5][tsif]") {
-  const io::Log log = trotLog(5.0, 1, true);
-  const LogFrontend frontend(log.layout, model::QuadrupedKinematics());
   for (const int iterations : {1, 2}) {
+    INFO("iterations " << iterations);
     TsifParams params;
     params.iterations = iterations;
     Tsif filter(params);
-    const eval::RunResult run = eval::runOnLog(filter, log, frontend, eval::initialState(log));
-    const eval::Metrics m = eval::compare(log, run.trajectory);
-    INFO("iterations " << iterations << ": position RMSE " << m.position_rmse
-                       << " m, velocity RMSE " << m.velocity_rmse << " m/s, tilt "
-                       << m.tilt_rmse_deg << " deg, yaw " << m.yaw_rmse_deg << " deg");
-    CHECK(m.position_rmse < 5e-3);
-    CHECK(m.velocity_rmse < 5e-3);
-    CHECK(m.tilt_rmse_deg < 0.05);
-    CHECK(m.yaw_rmse_deg < 0.05);
-    for (int i = 0; i < tsif::kFeet; ++i) CHECK(filter.inContact(i) == log.rows.back().contact[i]);
+    legkit::test::checkNoiselessTrotTracked(filter,
+                                            [](const Tsif& f, int i) { return f.inContact(i); });
   }
 }
 
@@ -386,13 +360,7 @@ TEST_CASE("TSIF: bad input throws and leaves the state untouched", "[57.5][tsif]
   const tsif::Matrix27 Lambda_before = filter.information();
   const EstimateSample estimate_before = filter.estimate();
   legkit::test::checkStepFaultsRefused(filter, good, [&] {
-    const State& x = filter.state();
-    CHECK(x.R.matrix() == before.R.matrix());
-    CHECK(x.v == before.v);
-    CHECK(x.p == before.p);
-    for (int i = 0; i < tsif::kFeet; ++i) CHECK(x.d[i] == before.d[i]);
-    CHECK(x.b_g == before.b_g);
-    CHECK(x.b_a == before.b_a);
+    legkit::test::checkSameState(filter.state(), before);
     CHECK(filter.information() == Lambda_before);
     CHECK(filter.estimate().t == estimate_before.t);
   });
