@@ -109,10 +109,10 @@
 // the positions': dx1 <- (I - alpha E) dx1 and C = B^T (P_pred - P_opt) B, with R_F^T e_z the
 // turn about the base on each sole's error. No position or sole residual changes with the turn
 // V, so the rest is updated optimally whatever the rule, and the heading and the vertical bias
-// follow it through their correlation: with one iteration this is the ESKF's update of each
-// foot's position and then its sole, exactly with one foot down (with two, the ESKF takes foot 0's
-// sole before foot 1's position). iCub log (legkit run, config/robots/icub.yaml): 0.015 m, 0.57
-// and 1.30 deg from a zero gyro bias, 0.008 m, 0.54 and 0.26 deg from the still window's; ANEES
+// follow it through their correlation: with one iteration this follows the ESKF's update of each
+// foot's position and then its sole (on the iCub log their positions differ by at most 28 um, 25
+// um with point feet). iCub log (legkit run, config/robots/icub.yaml): 0.015 m, 0.57 and 1.30 deg
+// from a zero gyro bias, 0.008 m, 0.54 and 0.26 deg from the still window's; ANEES
 // 0.55 and 0.46; the ESKF's to the table's digits.
 //
 // At the first sample (dt = 0, no previous IMU reading) there is no pair to solve: the filter

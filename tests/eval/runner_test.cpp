@@ -250,6 +250,12 @@ TEST_CASE("runner: the still start gives the window's mean rate; a log that move
   for (io::LogRow& row : turning.rows) row.gyro.z() += std::sin(2.0 * M_PI * row.t);
   params.max_wait = 3.0;
   CHECK_FALSE(eval::stillStart(turning, params));
+  // runStart asked for the window on that log: none, zero bias, and a line that says so.
+  settings.initialisation.max_wait = 3.0;
+  const eval::RunStart none = eval::runStart(turning, settings);
+  CHECK_FALSE(none.still);
+  CHECK_FALSE(none.gyroBias());
+  CHECK(none.note == eval::describeStart(std::nullopt));
 }
 
 TEST_CASE("runner: a run given the still start's gyro bias integrates the rate less it", "[eval]") {

@@ -92,6 +92,7 @@ def test_run_on_a_simulated_trot_is_consistent(trot_log):
     runs = est.run(trot_log, legkit.sim.settings_for("trot"), estimators=["eskf", "invariant-ekf"])
     assert list(runs) == ["eskf", "invariant-ekf"]
     for r in runs.values():
+        assert r["start"] is None  # the simulated trot's settings start every gyro bias at zero
         n = len(trot_log)
         assert r["p"].shape == (n, 3) and r["q"].shape == (n, 4) and r["sigma"].shape == (n, 9)
         assert r["contacts"].shape == (n, 4) and r["contact_source"] == "truth"
