@@ -44,7 +44,6 @@ bool looksPositiveDefinite(const Eigen::MatrixBase<Derived>& P) {
 // At the full-check interval: P is symmetric to rounding (1e-9 of its largest diagonal entry;
 // every filter symmetrises P as it updates it, so asymmetry can only creep in slowly, and the soak
 // run measures it below 1e-17) and its LDLT factorisation succeeds with a positive D.
-// At the full-check interval: P's LDLT factorisation succeeds with a positive D.
 template <typename Derived>
 bool isPositiveDefinite(const Eigen::MatrixBase<Derived>& P) {
   const double tolerance = 1e-9 * P.diagonal().cwiseAbs().maxCoeff();
@@ -58,8 +57,8 @@ bool isPositiveDefinite(const Eigen::MatrixBase<Derived>& P) {
 bool isSane(const EstimateSample& x, const InputLimits& limits);
 
 // The after-step check of the contract. check() runs the cheap checks every step and the full
-// one (symmetry, LDLT) every kFullCheckInterval steps; a state that passes the full check becomes the last good
-// one, which the estimator restarts from when a check fails.
+// one (symmetry, LDLT) every kFullCheckInterval steps; a state that passes the full check becomes
+// the last good one, which the estimator restarts from when a check fails.
 class HealthGuard {
  public:
   static constexpr int kFullCheckInterval = 200;  // steps (0.2 s at 1 kHz)

@@ -14,7 +14,6 @@
 // Fixed size: no allocation.
 #pragma once
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <array>
 
@@ -51,11 +50,9 @@ class InnovationWindows {
   }
 
  private:
-  void close(int foot, InnovationStats& stats) {
-    const Eigen::LLT<Eigen::Matrix3d> llt(sum_S_[foot]);
-    if (llt.info() == Eigen::Success) stats.add(llt.matrixL().solve(sum_r_[foot]).squaredNorm(), 3);
-    count_[foot] = 0;
-  }
+  // NIS_w of foot's window into stats (a sum_S that does not factorise adds nothing); the window
+  // restarts. (In innovation_windows.cpp: its LLT kept out of this widely included header.)
+  void close(int foot, InnovationStats& stats);
 
   std::array<Eigen::Vector3d, kMaxFeet> sum_r_;
   std::array<Eigen::Matrix3d, kMaxFeet> sum_S_;

@@ -1,5 +1,6 @@
 #include "estimation/engineering/monitors.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -160,11 +161,11 @@ const MonitorReport& HealthMonitor::update(const MonitorInput& in) {
     if (!P.allFinite()) {
       not_pd = true;
     } else if (in.P->has_attitude) {
-      ldlt9_.compute(P);
-      not_pd = ldlt9_.info() != Eigen::Success || !(ldlt9_.vectorD().minCoeff() > 0.0);
+      const Eigen::LDLT<Eigen::Matrix<double, 9, 9>> ldlt(P);
+      not_pd = ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0);
     } else {
-      ldlt6_.compute(P.bottomRightCorner<6, 6>());
-      not_pd = ldlt6_.info() != Eigen::Success || !(ldlt6_.vectorD().minCoeff() > 0.0);
+      const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(P.bottomRightCorner<6, 6>());
+      not_pd = ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0);
     }
   }
   if (in.health != nullptr) {

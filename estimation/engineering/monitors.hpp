@@ -29,7 +29,6 @@
 // The monitor allocates nothing per update: everything it keeps is fixed-size.
 #pragma once
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
@@ -147,8 +146,6 @@ class HealthMonitor {
   std::array<double, io::kMaxFeet> force_bias_{};  // windowed mean (sensor - model) [N]
   std::array<bool, io::kMaxFeet> drifting_{};
   std::uint64_t unhealthy_seen_ = 0;  // the filter's kStateUnhealthy count at the last update
-  Eigen::LDLT<Eigen::Matrix<double, 9, 9>> ldlt9_;
-  Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt6_;
 };
 
 }  // namespace legkit::engineering
