@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
   });
   invariant::Tsif tsif;
   run("tsif", tsif, [](const invariant::Tsif& f) {
-    return std::pair<Eigen::MatrixXd, Eigen::Matrix3d>(f.information(), f.state().R.matrix());
+    return std::pair<Eigen::MatrixXd, Eigen::Matrix3d>(f.P(), f.state().R.matrix());
   });
   return ok ? 0 : 1;
 }

@@ -153,18 +153,7 @@ void Eskf::initialise(const InitialState& s) {
 
 void Eskf::predict(double dt) {
   const eskf::Transition Phi = eskf::transition(x_, previous_, dt);
-  // P <- Phi P Phi^T: only the rows and columns (dtheta, dv, dp) change. (lazyProduct here and in
-  // the update: these products have an inner dimension of 3 to 9, where Eigen's blocked GEMM
-  // spends more time packing than multiplying.)
-  Eigen::Matrix<double, 9, kDim> M;  // Phi's navigation rows times P
-  M.noalias() = Phi.nav.lazyProduct(P_.topRows<9>());
-  M.noalias() += Phi.bias.lazyProduct(P_.middleRows<6>(kBg));
-  Eigen::Matrix<double, 9, 9> M_nav;
-  M_nav.noalias() = M.leftCols<9>() * Phi.nav.transpose();
-  M_nav.noalias() += M.middleCols<6>(kBg) * Phi.bias.transpose();
-  P_.topRows<9>() = M;
-  P_.leftCols<9>() = M.transpose();
-  P_.topLeftCorner<9, 9>() = 0.5 * (M_nav + M_nav.transpose());
+  eskf::transformNavigation(P_, Phi.nav, Phi.bias);  // P <- Phi P Phi^T
 
   // P <- P + Q (file comment).
   const model::ImuNoise& n = params_.imu;
@@ -329,48 +318,17 @@ void Eskf::inject(const Vector27& dx) {
   }
   x_ = x_.plus(dx_points);
   // Reset: P <- G P G^T, G = blockdiag(I - [dtheta_hat / 2]_x, I, ...) (and I - [dphi_hat / 2]_x
-  // on a flat foot's rotation): only the rows and columns of the local rotations change.
-  const auto reset = [&](int at) {
-    const Matrix3 G = Matrix3::Identity() - lie::hat3(Vector3(0.5 * dx.segment<3>(at)));
-    Eigen::Matrix<double, 3, kDim> rows;
-    rows.noalias() = G * P_.middleRows<3>(at);
-    Matrix3 P_tt;
-    P_tt.noalias() = rows.middleCols<3>(at) * G.transpose();
-    P_.middleRows<3>(at) = rows;
-    P_.middleCols<3>(at) = rows.transpose();
-    P_.block<3, 3>(at, at) = 0.5 * (P_tt + P_tt.transpose());
-  };
-  reset(kTheta);
-  for (int i = 0; params_.flat_feet && i < kFlatFeet; ++i) reset(rotationIndex(i));
+  // on a flat foot's rotation).
+  eskf::resetRotation(P_, kTheta, dx.segment<3>(kTheta));
+  for (int i = 0; params_.flat_feet && i < kFlatFeet; ++i)
+    eskf::resetRotation(P_, rotationIndex(i), dx.segment<3>(rotationIndex(i)));
 }
 
 void Eskf::initialiseFoot(int i, const ContactMeasurement& c) {
-  const int d = eskf::footIndex(i);
-  const Matrix3& R = x_.R.matrix();
-  x_.d[i] = x_.p + R * c.p_body;  // d_i = p + R z_i
-  // dd_i = J_theta dtheta + dp + R n,  J_theta = -R [z_i]_x.
-  const Matrix3 J_theta = -R * lie::hat3(c.p_body);
-  Eigen::Matrix<double, 3, kDim> M;  // the new rows of P: J P over (dtheta, dp)
-  M.noalias() = J_theta * P_.middleRows<3>(kTheta);
-  M += P_.middleRows<3>(kP);
-  Matrix3 P_dd = M.middleCols<3>(kP) + R * c.cov * R.transpose();
-  P_dd.noalias() += M.middleCols<3>(kTheta) * J_theta.transpose();
-  P_.middleRows<3>(d) = M;
-  P_.middleCols<3>(d) = M.transpose();
-  P_.block<3, 3>(d, d) = 0.5 * (P_dd + P_dd.transpose());
+  eskf::placeFoot(x_, P_, i, c.p_body, c.cov);  // d_i = p + R z_i (nominal_state.hpp)
   rotation_held_[i] = params_.flat_feet && c.R_body.has_value();  // flat: i < kFlatFeet
-  if (!rotation_held_[i]) return;
   // A flat foot: R_F = R_hat Z, and dphi_i = Z^T dtheta - n (file comment, "Flat feet").
-  const Matrix3& Z = *c.R_body;
-  const int f = rotationIndex(i);
-  foot_R_[i] = lie::SO3d::fromQuaternion(Eigen::Quaterniond(R * Z));
-  Eigen::Matrix<double, 3, kDim> N;
-  N.noalias() = Z.transpose() * P_.middleRows<3>(kTheta);
-  Matrix3 P_ff = c.rot_cov;
-  P_ff.noalias() += N.middleCols<3>(kTheta) * Z;
-  P_.middleRows<3>(f) = N;
-  P_.middleCols<3>(f) = N.transpose();
-  P_.block<3, 3>(f, f) = 0.5 * (P_ff + P_ff.transpose());
+  if (rotation_held_[i]) foot_R_[i] = eskf::placeSole(x_.R, P_, i, *c.R_body, c.rot_cov);
 }
 
 void Eskf::step(const StepInput& raw) {
@@ -434,13 +392,8 @@ EstimateSample Eskf::estimate() const {
 }
 
 std::optional<BaseCovariance> Eskf::covariance() const {
-  // e = J dx on (dtheta, dv, dp), J = blockdiag(R_hat, I, I).
-  const Matrix3& R = x_.R.matrix();
   BaseCovariance cov;
-  cov.P = P_.topLeftCorner<9, 9>();
-  cov.P.topRows<3>() = (R * cov.P.topRows<3>()).eval();
-  cov.P.leftCols<3>() = (cov.P.leftCols<3>() * R.transpose()).eval();
-  cov.has_attitude = true;
+  cov.P = eskf::worldBaseBlock(P_, x_.R);  // e = J dx, J = blockdiag(R_hat, I, I)
   return cov;
 }
 

@@ -6,9 +6,9 @@
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
-#include <utility>
 
 #include "estimation/contact/soft_contact.hpp"
+#include "estimation/fixed_size.hpp"
 #include "lie/imu_dynamics.hpp"
 
 namespace legkit::invariant {
@@ -196,18 +196,6 @@ void InvariantEkf::step(const StepInput& raw) {
 
 namespace {
 
-// Calls f(std::integral_constant<int, n>) for the run-time number of feet n (0..kMaxFeet).
-template <int N = 0, typename F>
-void withFeet(int n, F&& f) {
-  if constexpr (N == inekf::kMaxFeet) {
-    f(std::integral_constant<int, N>{});
-  } else if (n == N) {
-    f(std::integral_constant<int, N>{});
-  } else {
-    withFeet<N + 1>(n, std::forward<F>(f));
-  }
-}
-
 // The two sparse columns [a b] of the heading rule's E W = a psi + b beta (correctHeldFeet), kept
 // as their non-zero rows: the yaw, two rows of p and of each foot, a row of each sole, the three
 // of the gyro bias.
@@ -247,7 +235,7 @@ void InvariantEkf::dispatch(F&& f) {
   using Two = std::integral_constant<int, 2>;
   static_assert(inekf::kMaxFlatFeet == 2, "the soles' dispatch below");
   if (num_rotations_ == 0) {
-    withFeet(numFeet(), [&](auto feet) { f(feet, Zero{}); });
+    withFixedSize<inekf::kMaxFeet>(numFeet(), [&](auto feet) { f(feet, Zero{}); });
   } else if (numFeet() == 1) {  // a sole is held with its foot's column: m <= n <= 2
     f(One{}, One{});
   } else if (num_rotations_ == 1) {

@@ -49,6 +49,9 @@ constexpr double kFootRotationPrior = 1.0;
 using Vector27 = Eigen::Matrix<double, kDim, 1>;
 using Matrix27 = Eigen::Matrix<double, kDim, kDim>;
 using Matrix39 = Eigen::Matrix<double, 3, 9>;
+using Matrix9 = Eigen::Matrix<double, 9, 9>;
+using Matrix9x6 = Eigen::Matrix<double, 9, 6>;
+using Matrix9x27 = Eigen::Matrix<double, 9, kDim>;
 
 struct State {
   lie::SO3d R;                                    // body to world
@@ -121,6 +124,81 @@ inline Eigen::Vector3d soleResidual(const lie::SO3d& R, const lie::SO3d& R_F,
   const Eigen::Matrix3d h = R.matrix().transpose() * R_F.matrix();
   *H << -h.transpose(), Eigen::Matrix3d::Identity();
   return lie::SO3d::fromQuaternion(Eigen::Quaterniond(h.transpose() * Z)).Log();
+}
+
+// P <- G P G^T for a G that is the identity but on the navigation rows (dtheta, dv, dp), which
+// are `nav` over (dtheta, dv, dp) and `bias` over (db_g, db_a): the ESKF's Phi, the TSIF's
+// -J_1^-1 J_0. Only the rows and columns (dtheta, dv, dp) change. Returns G's navigation rows
+// times the P before (9 x 27), the TSIF's covariance of its two states. (lazyProduct: an inner
+// dimension of 3 to 9, where Eigen's blocked GEMM spends more time packing than multiplying.)
+inline Matrix9x27 transformNavigation(Matrix27& P, const Matrix9& nav, const Matrix9x6& bias) {
+  Matrix9x27 M;
+  M.noalias() = nav.lazyProduct(P.topRows<9>());
+  M.noalias() += bias.lazyProduct(P.middleRows<6>(kBg));
+  Matrix9 M_nav;
+  M_nav.noalias() = M.leftCols<9>() * nav.transpose();
+  M_nav.noalias() += M.middleCols<6>(kBg) * bias.transpose();
+  P.topRows<9>() = M;
+  P.leftCols<9>() = M.transpose();
+  P.topLeftCorner<9, 9>() = 0.5 * (M_nav + M_nav.transpose());
+  return M;
+}
+
+// After a step dx is injected, a local rotation error (the attitude at kTheta, or a flat foot's
+// sole) is re-expressed around the new estimate: P <- G P G^T, G = I - [dphi / 2]_x on its rows.
+inline void resetRotation(Matrix27& P, int at, const Eigen::Vector3d& dphi) {
+  const Eigen::Matrix3d G = Eigen::Matrix3d::Identity() - lie::hat3(Eigen::Vector3d(0.5 * dphi));
+  Eigen::Matrix<double, 3, kDim> rows;
+  rows.noalias() = G * P.middleRows<3>(at);
+  Eigen::Matrix3d P_tt;
+  P_tt.noalias() = rows.middleCols<3>(at) * G.transpose();
+  P.middleRows<3>(at) = rows;
+  P.middleCols<3>(at) = rows.transpose();
+  P.block<3, 3>(at, at) = 0.5 * (P_tt + P_tt.transpose());
+}
+
+// The (dtheta_w, dv, dp) block of P in the kit's convention (BaseCovariance): the local attitude
+// error mapped to the world frame, dtheta_w = R_hat dtheta.
+inline Matrix9 worldBaseBlock(const Matrix27& P, const lie::SO3d& R_hat) {
+  const Eigen::Matrix3d& R = R_hat.matrix();
+  Matrix9 B = P.topLeftCorner<9, 9>();
+  B.topRows<3>() = (R * B.topRows<3>()).eval();
+  B.leftCols<3>() = (B.leftCols<3>() * R.transpose()).eval();
+  return B;
+}
+
+// Foot i touches down and is placed at its kinematics z_i (body frame, covariance cov):
+// d_i = p + R z_i, and its rows of P those of dd_i = J_theta dtheta + dp + R n with
+// J_theta = -R [z_i]_x: the state's uncertainty, copied, plus the measurement's.
+inline void placeFoot(State& x, Matrix27& P, int i, const Eigen::Vector3d& z,
+                      const Eigen::Matrix3d& cov) {
+  const int d = footIndex(i);
+  const Eigen::Matrix3d& R = x.R.matrix();
+  x.d[i] = x.p + R * z;
+  const Eigen::Matrix3d J_theta = -R * lie::hat3(z);
+  Eigen::Matrix<double, 3, kDim> M;  // the new rows of P: J P over (dtheta, dp)
+  M.noalias() = J_theta * P.middleRows<3>(kTheta);
+  M += P.middleRows<3>(kP);
+  Eigen::Matrix3d P_dd = M.middleCols<3>(kP) + R * cov * R.transpose();
+  P_dd.noalias() += M.middleCols<3>(kTheta) * J_theta.transpose();
+  P.middleRows<3>(d) = M;
+  P.middleCols<3>(d) = M.transpose();
+  P.block<3, 3>(d, d) = 0.5 * (P_dd + P_dd.transpose());
+}
+
+// Flat foot i's sole at its touchdown, measured as Z = R_BF (covariance rot_cov): R_F = R Z, and
+// its rows of P those of dphi_i = Z^T dtheta - n (57.5, "Flat feet"). Returns R_F.
+inline lie::SO3d placeSole(const lie::SO3d& R, Matrix27& P, int i, const Eigen::Matrix3d& Z,
+                           const Eigen::Matrix3d& rot_cov) {
+  const int f = rotationIndex(i);
+  Eigen::Matrix<double, 3, kDim> N;
+  N.noalias() = Z.transpose() * P.middleRows<3>(kTheta);
+  Eigen::Matrix3d P_ff = rot_cov;
+  P_ff.noalias() += N.middleCols<3>(kTheta) * Z;
+  P.middleRows<3>(f) = N;
+  P.middleCols<3>(f) = N.transpose();
+  P.block<3, 3>(f, f) = 0.5 * (P_ff + P_ff.transpose());
+  return lie::SO3d::fromQuaternion(Eigen::Quaterniond(R.matrix() * Z));
 }
 
 }  // namespace legkit::invariant::nominal

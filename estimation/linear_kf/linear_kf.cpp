@@ -9,6 +9,7 @@
 #include <string>
 
 #include "estimation/contact/soft_contact.hpp"
+#include "estimation/fixed_size.hpp"
 #include "estimation/leg_odometry/base_velocity.hpp"
 
 namespace legkit::linear_kf {
@@ -376,28 +377,16 @@ bool LinearKf::updateStance(const StepInput& in, const Eigen::Vector3d* w_m,
     }
   }
   // Fixed-size matrices for each possible number of rows (kMaxRows = 15 at most).
+  if (st.blocks == 0) {
+    nis_windows_.endStep(innovations_);
+    return true;
+  }
   BlockInnovations nis;
   bool done = true;
-  switch (st.blocks) {
-    case 0:
-      nis_windows_.endStep(innovations_);
-      return true;
-    case 1:
-      done = stackedUpdate<3>(x_, P_, st, Sigma_theta, &nis);
-      break;
-    case 2:
-      done = stackedUpdate<6>(x_, P_, st, Sigma_theta, &nis);
-      break;
-    case 3:
-      done = stackedUpdate<9>(x_, P_, st, Sigma_theta, &nis);
-      break;
-    case 4:
-      done = stackedUpdate<12>(x_, P_, st, Sigma_theta, &nis);
-      break;
-    default:
-      static_assert(kMaxRows == 15, "one case per number of blocks");
-      done = stackedUpdate<15>(x_, P_, st, Sigma_theta, &nis);
-  }
+  static_assert(kMaxRows == 3 * (kFeet + 1), "a block per foot and one for the velocity");
+  withFixedSize<kFeet + 1, 1>(st.blocks, [&](auto blocks) {
+    done = stackedUpdate<3 * decltype(blocks)::value>(x_, P_, st, Sigma_theta, &nis);
+  });
   // The run's NIS (stanceInnovations(), innovation_windows.hpp): the foot blocks of p_c >=
   // kNisMinProbability. A foot touching down (in swing at the previous sample) has the swing
   // walk's variance, metres: its rows only place it, and are left out.

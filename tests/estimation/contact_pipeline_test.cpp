@@ -391,7 +391,7 @@ TEST_CASE(
 }
 
 TEST_CASE("settling: on a 10 s physics trot the ESKF's ANEES is at least halved, its error lower",
-          "[57.6][physics]") {
+          "[57.6][physics][study]") {
   const io::Log log = sim::simulatePhysics(trotOptions(10.0)).log;
   const EstimateSample x0 = eval::initialState(log);
   contact::DetectorContext context;

@@ -395,7 +395,7 @@ EskfParams simulatorParams() {
 
 // Measured (these seeds, 2026-11-29): mean 7.81, 85 % of rows inside [7.24, 10.95].
 TEST_CASE("ESKF: Monte Carlo NEES, small initial error, the simulator's noise model",
-          "[57.5][eskf][nees]") {
+          "[57.5][eskf][nees][study]") {
   const NeesResult r =
       monteCarloNees<Eskf>(20, simulatorParams(), 1.0, simulatorFrontend(), kLocal);
   WARN("ESKF, small initial error: " << describe(r));
@@ -409,7 +409,8 @@ TEST_CASE("ESKF: Monte Carlo NEES, small initial error, the simulator's noise mo
 // than it has: measured mean 7.52 over these 10 runs (bounds [6.56, 11.81], 91 % of rows inside,
 // 2026-11-29). Under-confident by a small margin, never over-confident. (10 runs here, 20 in the
 // other tests, to keep the sanitizer build quick.)
-TEST_CASE("ESKF: Monte Carlo NEES, small initial error, the kit's defaults", "[57.5][eskf][nees]") {
+TEST_CASE("ESKF: Monte Carlo NEES, small initial error, the kit's defaults",
+          "[57.5][eskf][nees][study]") {
   const NeesResult r = monteCarloNees<Eskf>(10, EskfParams{}, 1.0, FrontendNoise{}, kLocal);
   WARN("ESKF, defaults: " << describe(r));
   CHECK(r.mean > 0.9 * r.bounds.lower);
@@ -424,7 +425,8 @@ TEST_CASE("ESKF: Monte Carlo NEES, small initial error, the kit's defaults", "[5
 // 11.81, 0.08 % of rows inside; almost all of it attitude (when this test was written, with a
 // mean of 512: e^2 / sigma^2 per axis averaged 135 on roll and pitch and 58 on yaw, 1 when
 // consistent; five times the prior gave 41, three times, 0.03 rad, was still consistent).
-TEST_CASE("ESKF: Monte Carlo NEES, large initial error: over-confident", "[57.5][eskf][nees]") {
+TEST_CASE("ESKF: Monte Carlo NEES, large initial error: over-confident",
+          "[57.5][eskf][nees][study]") {
   const NeesResult r =
       monteCarloNees<Eskf>(10, simulatorParams(), 10.0, simulatorFrontend(), kLocal);
   WARN("ESKF, initial error x10: " << describe(r));

@@ -434,7 +434,7 @@ TEST_CASE("InEKF: bad input throws and leaves the state untouched", "[57.5][inek
 }
 
 TEST_CASE("InEKF: Monte Carlo NEES on the trot, the simulator's noise model",
-          "[57.5][inekf][nees]") {
+          "[57.5][inekf][nees][study]") {
   for (const Discretisation mode : {Discretisation::kExact, Discretisation::kFirstOrder}) {
     InvariantEkfParams params;
     params.discretisation = mode;
@@ -448,7 +448,7 @@ TEST_CASE("InEKF: Monte Carlo NEES on the trot, the simulator's noise model",
   }
 }
 
-TEST_CASE("InEKF: Monte Carlo NEES on the trot, the kit's defaults", "[57.5][inekf][nees]") {
+TEST_CASE("InEKF: Monte Carlo NEES on the trot, the kit's defaults", "[57.5][inekf][nees][study]") {
   const NeesResult r =
       monteCarloNees<InvariantEkf>(20, InvariantEkfParams{}, 1.0, FrontendNoise{}, kWorld);
   WARN("InEKF (defaults): " << describe(r));
@@ -460,7 +460,8 @@ TEST_CASE("InEKF: Monte Carlo NEES on the trot, the kit's defaults", "[57.5][ine
 // 0.5 m/s, 0.1 m): the ESKF reports 287 on these 10 runs, over-confident. The InEKF's navigation
 // error propagates exactly whatever its size, and it stays consistent. Measured (these seeds,
 // 10 runs): mean 8.36 inside [6.56, 11.81], 99.6 % of rows inside.
-TEST_CASE("InEKF: Monte Carlo NEES, large initial error: still consistent", "[57.5][inekf][nees]") {
+TEST_CASE("InEKF: Monte Carlo NEES, large initial error: still consistent",
+          "[57.5][inekf][nees][study]") {
   InvariantEkfParams params;
   params.foot_stance_density = 1e-4;
   const NeesResult r = monteCarloNees<InvariantEkf>(10, params, 10.0, simulatorFrontend(), kWorld);

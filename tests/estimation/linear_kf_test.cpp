@@ -727,7 +727,7 @@ std::string describe(const NeesResult& r) {
 // Without those attitude terms, or without the acceleration compensation of the attitude
 // filter, the mean leaves the bounds (ANEES/dof 4.5 without either, the next test; pitch error
 // times forward speed makes a vertical velocity bias).
-TEST_CASE("LKF: Monte Carlo NEES on the default trot", "[57.4][linear_kf][nees]") {
+TEST_CASE("LKF: Monte Carlo NEES on the default trot", "[57.4][linear_kf][nees][study]") {
   FrontendNoise frontend;
   frontend.foot_point_sigma = 5e-4;
   const NeesResult r = monteCarloNees(LinearKfParams{}, frontend);
@@ -741,7 +741,7 @@ TEST_CASE("LKF: Monte Carlo NEES on the default trot", "[57.4][linear_kf][nees]"
 }
 
 TEST_CASE("LKF: without the attitude model the filter is over-confident",
-          "[57.4][linear_kf][nees]") {
+          "[57.4][linear_kf][nees][study]") {
   // The same runs with model_attitude_error = false and no acceleration compensation.
   FrontendNoise frontend;
   frontend.foot_point_sigma = 5e-4;

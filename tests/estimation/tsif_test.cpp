@@ -135,19 +135,38 @@ TEST_CASE("TSIF: analytic Jacobians agree with central differences", "[57.5][tsi
   }
 }
 
-TEST_CASE("TSIF: the IMU weight is the inverse of the integrated noise", "[57.5][tsif]") {
+TEST_CASE("TSIF: the IMU residual's noise is the integrated densities", "[57.5][tsif]") {
   const model::ImuNoise noise = model::ImuNoise::go2();
   const double dt = 2e-3;
-  Matrix15 Q = Matrix15::Zero();
-  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
-  const double s2 = noise.accel_noise_density * noise.accel_noise_density;
-  Q.block<3, 3>(0, 0) = noise.gyro_noise_density * noise.gyro_noise_density * dt * I;
-  Q.block<3, 3>(3, 3) = s2 * dt * I;
-  Q.block<3, 3>(3, 6) = Q.block<3, 3>(6, 3) = s2 * dt * dt / 2 * I;
-  Q.block<3, 3>(6, 6) = s2 * dt * dt * dt / 3 * I;
-  Q.block<3, 3>(9, 9) = noise.gyro_bias_random_walk * noise.gyro_bias_random_walk * dt * I;
-  Q.block<3, 3>(12, 12) = noise.accel_bias_random_walk * noise.accel_bias_random_walk * dt * I;
-  CHECK((tsif::imuWeight(noise, dt) * Q - Matrix15::Identity()).norm() < 1e-9);
+  const Matrix15 Q = tsif::imuNoise(noise, dt);
+  // White noise of density sigma over dt has variance sigma^2 dt: the rotation and the biases.
+  const auto white = [&](double sigma) { return sigma * sigma * dt; };
+  CHECK(
+      Q.diagonal().head<3>().isApprox(Eigen::Vector3d::Constant(white(noise.gyro_noise_density))));
+  CHECK(Q.diagonal().segment<3>(9).isApprox(
+      Eigen::Vector3d::Constant(white(noise.gyro_bias_random_walk))));
+  CHECK(Q.diagonal().tail<3>().isApprox(
+      Eigen::Vector3d::Constant(white(noise.accel_bias_random_walk))));
+  // White acceleration a(s) moves v by the integral of a and p by that of (dt - s) a: per axis
+  // sigma_a^2 times the integral of m m^T ds, m = (1, dt - s), here by the midpoint rule.
+  Eigen::Matrix2d integral = Eigen::Matrix2d::Zero();
+  constexpr int kSteps = 10000;
+  for (int k = 0; k < kSteps; ++k) {
+    const Eigen::Vector2d m(1.0, dt - (k + 0.5) * dt / kSteps);
+    integral += m * m.transpose() * (dt / kSteps);
+  }
+  const double var_a = noise.accel_noise_density * noise.accel_noise_density;
+  for (int axis = 0; axis < 3; ++axis) {
+    Eigen::Matrix2d vp;
+    vp << Q(3 + axis, 3 + axis), Q(3 + axis, 6 + axis), Q(6 + axis, 3 + axis),
+        Q(6 + axis, 6 + axis);
+    CHECK((vp - var_a * integral).norm() < 1e-6 * vp.norm());
+  }
+  // Nothing else: the axes and the five residuals are independent.
+  Matrix15 rest = Q;
+  rest.diagonal().setZero();
+  for (int axis = 0; axis < 3; ++axis) rest(3 + axis, 6 + axis) = rest(6 + axis, 3 + axis) = 0.0;
+  CHECK(rest.isZero(0.0));
 }
 
 TEST_CASE("TSIF: without contacts it is IMU dead reckoning", "[57.5][tsif]") {
@@ -158,13 +177,13 @@ TEST_CASE("TSIF: without contacts it is IMU dead reckoning", "[57.5][tsif]") {
 TEST_CASE("TSIF: a zero bias random walk is a constant bias", "[57.5][tsif]") {
   // The contract of both 57.5 filters (nominal_state.hpp): zero random walk is accepted (the two
   // states of a step share one bias). Without contacts nothing observes the biases: a constant
-  // bias keeps its prior variance, a random walk grows it (by 1.9e-3, relative, over 3 s). (With
-  // the marginal formed as the Schur complement of the normal equations, rounding alone moved it
-  // by 2e-4 over those 3 s: chapter 57.10.)
+  // bias keeps its prior variance, a random walk grows it (by 1.9e-3, relative, over 3 s). (In an
+  // earlier information form, whose marginal was the Schur complement of the normal equations,
+  // rounding alone moved it by 2e-4 over those 3 s: chapter 57.10.)
   const io::Log log = trotLog(3.0, 4, false);
   const std::vector<StepInput> inputs = inputsOf(log);
   const auto biasVariance = [](const Tsif& f) {
-    const tsif::Matrix27 P = f.information().llt().solve(tsif::Matrix27::Identity());
+    const tsif::Matrix27& P = f.P();
     return Eigen::Vector2d(P.block<3, 3>(tsif::kBg, tsif::kBg).trace(),
                            P.block<3, 3>(tsif::kBa, tsif::kBa).trace());
   };
@@ -196,18 +215,19 @@ TEST_CASE("TSIF: a zero bias random walk is a constant bias", "[57.5][tsif]") {
   CHECK((variance[1][1].array() < variance[1][0].array()).all());
 }
 
-TEST_CASE("TSIF: its information is the inverse of the propagated covariance", "[57.5][tsif]") {
-  // Without contacts the TSIF's new information must be the inverse of the covariance that the
-  // IMU residual propagates, P+ = Phi P Phi^T + Q with Phi = -J_x1^-1 J_x0 and Q = W_imu^-1, over
-  // every one of 3000 steps. (Formed as the Schur complement of the normal equations, where
-  // terms of 1e14 cancel, it drifted from it by 0.016 in correlation units in 3 s: chapter
-  // 57.10; now the difference is 3e-13.)
+TEST_CASE("TSIF: without contacts its covariance is the one the IMU residual propagates",
+          "[57.5][tsif]") {
+  // Without contacts the TSIF's covariance must be the one that the IMU residual propagates,
+  // P+ = Phi P Phi^T + Q with Phi = -J_x1^-1 J_x0 and Q its noise, over every one of 3000 steps,
+  // built here from the residual's Jacobians alone. (An earlier information form, whose marginal
+  // was the Schur complement of the normal equations, where terms of 1e14 cancel, drifted from it
+  // by 0.016 in correlation units in 3 s: chapter 57.10.)
   const io::Log log = trotLog(3.0, 6, false);
   std::vector<StepInput> inputs = inputsOf(log);
   Tsif filter;
   filter.reset(eval::initialState(log));
-  const auto navCovariance = [&] {  // (dtheta, dv, dp, db_g, db_a) block of Lambda^-1
-    const tsif::Matrix27 P = filter.information().llt().solve(tsif::Matrix27::Identity());
+  const auto navCovariance = [&] {  // (dtheta, dv, dp, db_g, db_a) block of P
+    const tsif::Matrix27& P = filter.P();
     Matrix15 N;
     for (int a = 0; a < 5; ++a)
       for (int b = 0; b < 5; ++b) N.block<3, 3>(3 * a, 3 * b) = P.block<3, 3>(kNav[a], kNav[b]);
@@ -226,7 +246,7 @@ TEST_CASE("TSIF: its information is the inverse of the propagated covariance", "
     const double dt = inputs[k].dt;
     const tsif::ImuResidual e = tsif::imuResidual(x0, filter.state(), inputs[k - 1].imu, dt);
     const Matrix15 Phi = -e.J_x1.inverse() * e.J_x0;
-    P_ref = Phi * P_ref * Phi.transpose() + tsif::imuWeight(model::ImuNoise::go2(), dt).inverse();
+    P_ref = Phi * P_ref * Phi.transpose() + tsif::imuNoise(model::ImuNoise::go2(), dt);
     const Matrix15 P = navCovariance();
     const tsif::Vector15 scale = P_ref.diagonal().cwiseSqrt().cwiseInverse();
     worst = std::max(worst,
@@ -333,18 +353,18 @@ TEST_CASE("TSIF: a touchdown tells the filter nothing about the base", "[57.5][t
   }
 }
 
-TEST_CASE("TSIF: the information matrix stays symmetric positive definite", "[57.5][tsif]") {
+TEST_CASE("TSIF: the covariance stays symmetric positive definite", "[57.5][tsif]") {
   const io::Log log = trotLog(3.0, 5, false);
   const std::vector<StepInput> inputs = inputsOf(log);
   Tsif filter;
   filter.reset(eval::initialState(log));
   for (std::size_t k = 0; k < inputs.size(); ++k) {
     filter.step(inputs[k]);
-    const tsif::Matrix27& L = filter.information();
-    REQUIRE(L.allFinite());
-    REQUIRE((L - L.transpose()).norm() == 0.0);
+    const tsif::Matrix27& P = filter.P();
+    REQUIRE(P.allFinite());
+    REQUIRE((P - P.transpose()).norm() == 0.0);
     if (k % 50 != 0) continue;
-    const Eigen::SelfAdjointEigenSolver<tsif::Matrix27> eig(L);
+    const Eigen::SelfAdjointEigenSolver<tsif::Matrix27> eig(P);
     REQUIRE(eig.eigenvalues().minCoeff() > 0.0);
     const BaseCovariance cov = *filter.covariance();
     REQUIRE(
@@ -357,11 +377,11 @@ TEST_CASE("TSIF: bad input throws and leaves the state untouched", "[57.5][tsif]
   Tsif filter;
   const StepInput good = legkit::test::stepToTwoFeet(filter);
   const State before = filter.state();
-  const tsif::Matrix27 Lambda_before = filter.information();
+  const tsif::Matrix27 P_before = filter.P();
   const EstimateSample estimate_before = filter.estimate();
   legkit::test::checkStepFaultsRefused(filter, good, [&] {
     legkit::test::checkSameState(filter.state(), before);
-    CHECK(filter.information() == Lambda_before);
+    CHECK(filter.P() == P_before);
     CHECK(filter.estimate().t == estimate_before.t);
   });
   legkit::test::checkFamilyParamsRefused<Tsif, TsifParams>();
@@ -377,7 +397,7 @@ TEST_CASE("TSIF: bad input throws and leaves the state untouched", "[57.5][tsif]
   CHECK_THROWS_WITH(Tsif(params), Catch::Contains("step_tolerance"));
 }
 
-TEST_CASE("TSIF: Monte Carlo NEES on the default trot", "[57.5][tsif][nees]") {
+TEST_CASE("TSIF: Monte Carlo NEES on the default trot", "[57.5][tsif][nees][study]") {
   // 20 runs of 5 s, each run's initial biases and error drawn from the prior the filter is given
   // (test::monteCarloNees), with the kit's default front end.
   const NeesResult r = monteCarloNees<Tsif>(20, TsifParams{}, 1.0, FrontendNoise{},

@@ -70,7 +70,7 @@ eval::TuneOptions quick() {
 }  // namespace
 
 TEST_CASE("tune: IMU densities from the still start, the stance density back to consistency",
-          "[tune][real-robot]") {
+          "[tune][real-robot][study]") {
   const sim::SimOptions o = trot(3.0);
   const io::Log log = sim::simulate(o).log;
   Settings start = analytic(o);

@@ -141,7 +141,7 @@ TEST_CASE("terrain guards for estimated forces: loaded stance and a slip that ho
 }
 
 TEST_CASE("terrain on the study's inputs: the dry trot is normal, the pushed robot on ice is ice",
-          "[57.7][terrain][physics]") {
+          "[57.7][terrain][physics][study]") {
   for (const unsigned seed : {1u, 2u, 3u}) {
     INFO("seed " << seed);
     const sim::PhysicsResult trot = simulate("physics-trot", 10.0, seed);

@@ -137,7 +137,7 @@ TEST_CASE("--dataset icub-walking is the shipped log with its settings, one comm
 TEST_CASE(
     "physics-real: heading corrections from over-confident stance feet lose yaw; the heading rule "
     "and a robot's stance density (the defaults) keep the gyro's",
-    "[cli][real-robot][physics]") {
+    "[cli][real-robot][physics][study]") {
   const test::ScratchFolder dir("physics_real_cli");
   // The filters as they were: heading corrections, and stance feet pinned as exact legs' are.
   std::ofstream(dir.path / "plain.yaml") << "feet:\n  correct_yaw: true\n  stance_density: 0.001\n";
