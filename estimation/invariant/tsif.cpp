@@ -174,7 +174,28 @@ struct KinematicsRow {
     for (Eigen::Index k = 0; k < blocks; ++k) y.noalias() += J[k] * dx.segment<3>(cols[k]);
     return y;
   }
+  // J P J^T + R, the residual's covariance under the state's P.
+  Eigen::Matrix3d covariance(const Matrix27& P) const {
+    Eigen::Matrix3d S = R;
+    for (Eigen::Index k = 0; k < blocks; ++k)
+      for (Eigen::Index l = 0; l < blocks; ++l)
+        S.noalias() += J[k] * P.block<3, 3>(cols[k], cols[l]) * J[l].transpose();
+    return S;
+  }
 };
+
+// Stance foot i's kinematics at x, R^T (d_i - p) - p_body over (dtheta, dp, dd_i), noise Cov_i
+// with the variance floor.
+KinematicsRow footRow(const State& x, int i, const ContactMeasurement& c) {
+  KinematicsRow row;
+  Matrix39 J;
+  row.r = kinematicsResidual(x, i, c.p_body, &J);
+  row.cols = {kTheta, kP, footIndex(i)};
+  row.blocks = 3;
+  for (Eigen::Index k = 0; k < 3; ++k) row.J[k] = J.middleCols<3>(3 * k);
+  row.R = c.cov + kMinFootVariance * Eigen::Matrix3d::Identity();
+  return row;
+}
 
 // The stacked kinematics of a step: P H^T, S = H P H^T + R and its factor, over kRows rows.
 struct Stack {
@@ -406,17 +427,8 @@ void Tsif::step(const StepInput& raw) {
       // The gate (file comment): residuals at the prediction against J P_pred J^T + Cov.
       for (int i = 0; i < kFeet; ++i) {
         if (!kinematics[i]) continue;
-        KinematicsRow row;
-        Matrix39 J;
-        row.r = kinematicsResidual(x1, i, contact[i]->p_body, &J);
-        row.cols = {kTheta, kP, footIndex(i)};
-        Eigen::Matrix<double, kDim, 3> PJt = Eigen::Matrix<double, kDim, 3>::Zero();
-        for (Eigen::Index k = 0; k < 3; ++k)
-          PJt.noalias() += P1.middleCols<3>(row.cols[k]) * J.middleCols<3>(3 * k).transpose();
-        Eigen::Matrix3d S = contact[i]->cov + floor;
-        for (Eigen::Index k = 0; k < 3; ++k)
-          S.noalias() += J.middleCols<3>(3 * k) * PJt.middleRows<3>(row.cols[k]);
-        const Eigen::LLT<Eigen::Matrix3d> llt(S);
+        const KinematicsRow row = footRow(x1, i, *contact[i]);
+        const Eigen::LLT<Eigen::Matrix3d> llt(row.covariance(P1));
         if (llt.info() != Eigen::Success) continue;
         const double d2 = llt.matrixL().solve(row.r).squaredNorm();  // r^T S^-1 r
         const engineering::FootGate::Decision decision = gate_.decide(i, d2, in.t);
@@ -432,13 +444,7 @@ void Tsif::step(const StepInput& raw) {
     stack.used = 0;
     for (int i = 0; i < kFeet; ++i) {
       if (!kinematics[i]) continue;
-      KinematicsRow& row = stack.rows[stack.used++];
-      Matrix39 J;
-      row.r = kinematicsResidual(x1, i, contact[i]->p_body, &J);
-      row.cols = {kTheta, kP, footIndex(i)};
-      row.blocks = 3;
-      for (Eigen::Index k = 0; k < 3; ++k) row.J[k] = J.middleCols<3>(3 * k);
-      row.R = contact[i]->cov + floor;
+      stack.rows[stack.used++] = footRow(x1, i, *contact[i]);
       if (!(i < kFlatFeet && rotation_held_[i] && contact[i]->R_body)) continue;
       // The sole: the TSIF's h (-) z is Log(Z^T h) = -r + H dx, r and H of soleResidual.
       KinematicsRow& sole = stack.rows[stack.used++];
